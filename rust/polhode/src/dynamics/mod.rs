@@ -1,0 +1,1 @@
+//! Euler's equations, integrators and torques.

@@ -1,0 +1,83 @@
+//! The one error type of the core crate.
+
+/// Everything that can go wrong in the core, each variant naming the argument at fault.
+///
+/// Messages follow the form ``Expected `name` to ..., got ...``, so that the Python layer can
+/// pass them on unchanged.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A number that must be finite is NaN or infinite.
+    #[error("Expected `{name}` to be finite, got {value}.")]
+    NonFinite {
+        /// The argument (or element, e.g. `positions[3]`) at fault.
+        name: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// A number that must be strictly positive is zero or negative.
+    #[error("Expected `{name}` to be positive, got {value}.")]
+    NonPositive {
+        /// The argument at fault.
+        name: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// An array has the wrong length or shape.
+    #[error("Expected `{name}` to have shape {expected}, got {got}.")]
+    Shape {
+        /// The argument at fault.
+        name: String,
+        /// The shape that was expected, e.g. `(N, 3)`.
+        expected: String,
+        /// The shape that came.
+        got: String,
+    },
+    /// A tensor that is not a valid inertia tensor (asymmetric, not positive semidefinite, or
+    /// breaking the triangle inequality `I1 + I2 >= I3`).
+    #[error("Expected `{name}` to be a valid inertia tensor: {reason}")]
+    InvalidInertia {
+        /// The argument at fault.
+        name: String,
+        /// What is wrong, with the numbers.
+        reason: String,
+    },
+    /// Any other invalid argument.
+    #[error("Invalid `{name}`: {reason}")]
+    InvalidArgument {
+        /// The argument at fault.
+        name: String,
+        /// What is wrong, with the numbers.
+        reason: String,
+    },
+    /// An iterative method did not converge within its bounded number of iterations.
+    #[error("{method} did not converge: {reason}")]
+    NoConvergence {
+        /// The method that failed.
+        method: String,
+        /// What happened.
+        reason: String,
+    },
+}
+
+/// `Result` with the core [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Checks that `value` is finite.
+pub(crate) fn finite(name: &str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NonFinite { name: name.to_owned(), value })
+    }
+}
+
+/// Checks that `value` is finite and strictly positive.
+pub(crate) fn positive(name: &str, value: f64) -> Result<f64> {
+    finite(name, value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::NonPositive { name: name.to_owned(), value })
+    }
+}

@@ -1,0 +1,1 @@
+//! The exact torque-free motion: Jacobi elliptic functions and the free rotation.
