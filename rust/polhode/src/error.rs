@@ -68,7 +68,10 @@ pub(crate) fn finite(name: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::NonFinite { name: name.to_owned(), value })
+        Err(Error::NonFinite {
+            name: name.to_owned(),
+            value,
+        })
     }
 }
 
@@ -78,6 +81,9 @@ pub(crate) fn positive(name: &str, value: f64) -> Result<f64> {
     if value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::NonPositive { name: name.to_owned(), value })
+        Err(Error::NonPositive {
+            name: name.to_owned(),
+            value,
+        })
     }
 }

@@ -1,0 +1,88 @@
+"""Input coercion shared by the Python layer: array-likes to float64, rotations to matrices.
+
+Errors name the argument and say what was expected and what came, in the form
+``Expected `name` to have shape (3,), got (2,).``
+"""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polhode._core import PolhodeError
+
+__all__ = ["as_array", "as_rotation_matrix", "as_scalar"]
+
+
+def _shape_str(shape: tuple[int, ...]) -> str:
+    if len(shape) == 1:
+        return f"({shape[0]},)"
+    return "(" + ", ".join(str(d) for d in shape) + ")"
+
+
+def as_scalar(name: str, value: Any) -> float:
+    """A real number as float; TypeError for anything else (bool, str, arrays)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
+            return float(value)
+        raise TypeError(f"Expected `{name}` to be a real number, got {type(value).__name__}.")
+    return float(value)
+
+
+def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """A C-contiguous float64 array of the given shape (None matches any length)."""
+    if isinstance(value, str | bytes):
+        raise TypeError(f"Expected `{name}` to be an array of numbers, got {type(value).__name__}.")
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise TypeError(
+            f"Expected `{name}` to be an array of numbers, got {type(value).__name__}."
+        ) from error
+    expected = "(" + ", ".join("N" if d is None else str(d) for d in shape)
+    expected += ",)" if len(shape) == 1 else ")"
+    if array.ndim != len(shape) or any(
+        d is not None and d != a for d, a in zip(shape, array.shape, strict=True)
+    ):
+        raise PolhodeError(
+            f"Expected `{name}` to have shape {expected}, got {_shape_str(array.shape)}."
+        )
+    return np.ascontiguousarray(array)
+
+
+def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
+    """A proper rotation matrix from a scipy Rotation, a (3, 3) matrix or an xyzw quaternion."""
+    from scipy.spatial.transform import Rotation
+
+    if isinstance(rotation, Rotation):
+        if not rotation.single:
+            raise PolhodeError(f"Expected `{name}` to be a single rotation, got a stack.")
+        return np.ascontiguousarray(rotation.as_matrix(), dtype=np.float64)
+    if isinstance(rotation, str | bytes):
+        raise TypeError(
+            f"Expected `{name}` to be a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) "
+            f"quaternion, got {type(rotation).__name__}."
+        )
+    try:
+        array = np.asarray(rotation, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise TypeError(
+            f"Expected `{name}` to be a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) "
+            f"quaternion, got {type(rotation).__name__}."
+        ) from error
+    if not np.all(np.isfinite(array)):
+        raise PolhodeError(f"Expected `{name}` to be finite, got {array.tolist()}.")
+    if array.shape == (4,):
+        norm = float(np.linalg.norm(array))
+        if norm == 0.0:
+            raise PolhodeError(f"Expected `{name}` to be a non-zero quaternion, got {array}.")
+        return np.ascontiguousarray(Rotation.from_quat(array / norm).as_matrix())
+    if array.shape == (3, 3):
+        return np.ascontiguousarray(array)
+    raise PolhodeError(
+        f"Expected `{name}` to have shape (3, 3) or (4,) (an x, y, z, w quaternion), "
+        f"got {_shape_str(array.shape)}."
+    )

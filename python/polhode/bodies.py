@@ -1,0 +1,249 @@
+"""Rigid bodies: mass, centre of mass and inertia of point masses, solids and composites."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polhode import _core
+from polhode._coerce import as_array, as_rotation_matrix, as_scalar
+from polhode.principal_axes import Principal
+
+__all__ = ["Body"]
+
+
+class Body:
+    """A rigid body: mass, centre of mass and inertia, all in the body's own axes.
+
+    Immutable. Build one with a constructor (``Body.cylinder(...)``), move it with
+    :meth:`translated` and :meth:`rotated`, and add bodies to make composites (each part is
+    shifted to the combined centre of mass). Internally the second moments about the centre of
+    mass are kept in a square-root form, so composites keep the small moments of needles and the
+    tiny anisotropy of nearly spherical bodies.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> handle = ph.Body.cylinder(1.0, 0.02, 0.3)
+    >>> bar = ph.Body.cylinder(0.5, 0.02, 0.2).rotated([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
+    >>> t_handle = handle + bar.translated([0.0, 0.0, 0.15])
+    >>> p = t_handle.principal()
+    >>> bool(p.moments[0] < p.moments[1] < p.moments[2])
+    True
+    """
+
+    __slots__ = ("_core",)
+
+    def __init__(self, core: _core.MassProperties) -> None:
+        if not isinstance(core, _core.MassProperties):
+            raise TypeError(
+                "Body is built with a constructor such as Body.sphere or Body.point_masses, "
+                f"not from {type(core).__name__}."
+            )
+        self._core = core
+
+    # --- constructors ---------------------------------------------------------------------
+
+    @classmethod
+    def point_masses(cls, masses: Any, positions: Any) -> Body:
+        """Point masses: ``masses`` (N,) at ``positions`` (N, 3)."""
+        m = as_array("masses", masses, (None,))
+        r = as_array("positions", positions, (None, 3))
+        if r.shape[0] != m.shape[0]:
+            raise _core.PolhodeError(
+                f"Expected `positions` to have shape ({m.shape[0]}, 3) to match `masses`, "
+                f"got ({r.shape[0]}, 3)."
+            )
+        return cls(_core.MassProperties.point_masses(m, r))
+
+    @classmethod
+    def sphere(cls, mass: float, radius: float) -> Body:
+        """A solid sphere: I = 2/5 m r^2."""
+        return cls(_core.MassProperties.sphere(as_scalar("mass", mass), as_scalar("radius", radius)))
+
+    @classmethod
+    def spherical_shell(cls, mass: float, radius: float) -> Body:
+        """A thin spherical shell: I = 2/3 m r^2."""
+        return cls(
+            _core.MassProperties.spherical_shell(as_scalar("mass", mass), as_scalar("radius", radius))
+        )
+
+    @classmethod
+    def box(cls, mass: float, size: Any) -> Body:
+        """A solid box with full edge lengths ``size`` = (a, b, c) along x, y, z."""
+        return cls(_core.MassProperties.cuboid(as_scalar("mass", mass), as_array("size", size, (3,))))
+
+    @classmethod
+    def cylinder(cls, mass: float, radius: float, length: float) -> Body:
+        """A solid cylinder along z: I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
+        return cls(
+            _core.MassProperties.cylinder(
+                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
+            )
+        )
+
+    @classmethod
+    def tube(cls, mass: float, inner_radius: float, outer_radius: float, length: float) -> Body:
+        """A thick-walled tube along z: I_z = m (r1^2 + r2^2)/2."""
+        return cls(
+            _core.MassProperties.tube(
+                as_scalar("mass", mass),
+                as_scalar("inner_radius", inner_radius),
+                as_scalar("outer_radius", outer_radius),
+                as_scalar("length", length),
+            )
+        )
+
+    @classmethod
+    def cone(cls, mass: float, radius: float, height: float) -> Body:
+        """A solid cone: base disc in the plane z = 0, apex at z = height (centre of mass h/4)."""
+        return cls(
+            _core.MassProperties.cone(
+                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("height", height)
+            )
+        )
+
+    @classmethod
+    def ellipsoid(cls, mass: float, semi_axes: Any) -> Body:
+        """A solid ellipsoid with semi-axes (a, b, c): I_x = m (b^2 + c^2)/5."""
+        return cls(
+            _core.MassProperties.ellipsoid(
+                as_scalar("mass", mass), as_array("semi_axes", semi_axes, (3,))
+            )
+        )
+
+    @classmethod
+    def rod(cls, mass: float, length: float) -> Body:
+        """A thin rod along z: I_x = I_y = m L^2/12, I_z = 0."""
+        return cls(_core.MassProperties.rod(as_scalar("mass", mass), as_scalar("length", length)))
+
+    @classmethod
+    def disk(cls, mass: float, radius: float) -> Body:
+        """A thin disc in the xy plane: I_z = m r^2/2, I_x = I_y = m r^2/4."""
+        return cls(_core.MassProperties.disk(as_scalar("mass", mass), as_scalar("radius", radius)))
+
+    @classmethod
+    def torus(cls, mass: float, major_radius: float, minor_radius: float) -> Body:
+        """A solid torus about z: I_z = m (R^2 + 3 a^2/4), I_x = m (R^2/2 + 5 a^2/8)."""
+        return cls(
+            _core.MassProperties.torus(
+                as_scalar("mass", mass),
+                as_scalar("major_radius", major_radius),
+                as_scalar("minor_radius", minor_radius),
+            )
+        )
+
+    @classmethod
+    def capsule(cls, mass: float, radius: float, length: float) -> Body:
+        """A cylinder of ``length`` along z capped by two hemispheres of ``radius``."""
+        return cls(
+            _core.MassProperties.capsule(
+                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
+            )
+        )
+
+    @classmethod
+    def from_inertia(cls, mass: float, inertia: Any, center_of_mass: Any = (0.0, 0.0, 0.0)) -> Body:
+        """A body from its mass, inertia tensor about its centre of mass, and that centre.
+
+        The tensor must be symmetric, positive semidefinite and satisfy I1 + I2 >= I3 (each to a
+        relative tolerance of about 16 eps tr(I)/2); planar and collinear bodies are valid.
+        """
+        return cls(
+            _core.MassProperties.from_inertia(
+                as_scalar("mass", mass),
+                as_array("inertia", inertia, (3, 3)),
+                as_array("center_of_mass", center_of_mass, (3,)),
+            )
+        )
+
+    # --- properties -----------------------------------------------------------------------
+
+    @property
+    def mass(self) -> float:
+        """Total mass."""
+        return self._core.mass
+
+    @property
+    def center_of_mass(self) -> NDArray[np.float64]:
+        """(3,) centre of mass in body coordinates."""
+        return self._core.center_of_mass
+
+    @property
+    def inertia(self) -> NDArray[np.float64]:
+        """(3, 3) inertia tensor about the centre of mass, in body axes (I_xy = -sum m x y)."""
+        return self._core.inertia
+
+    @property
+    def second_moment(self) -> NDArray[np.float64]:
+        """(3, 3) second-moment matrix sum m r r^T about the centre of mass."""
+        return self._core.second_moment
+
+    def inertia_about(self, point: Any, axes: Any = None) -> NDArray[np.float64]:
+        """(3, 3) inertia tensor about ``point`` (body coordinates).
+
+        ``axes``, if given, is a rotation (scipy Rotation, (3, 3) matrix or xyzw quaternion)
+        whose columns are the new axes in body coordinates; the result is then
+        ``A.T @ I_point @ A``.
+        """
+        p = as_array("point", point, (3,))
+        a = None if axes is None else as_rotation_matrix("axes", axes)
+        return self._core.inertia_about(p, a)
+
+    def principal(self, rtol: float | None = None) -> Principal:
+        """Principal moments (ascending) and axes about the centre of mass.
+
+        Moments whose gap is at most ``rtol`` (default 8 eps) times the anisotropic part of the
+        second moments count as equal: they are returned equal, flagged in ``multiplicity``, and
+        their axes are the canonical ones closest to the body's own axes.
+        """
+        tolerance = None if rtol is None else as_scalar("rtol", rtol)
+        moments, axes, multiplicity = self._core.principal(tolerance)
+        return Principal(moments, axes, multiplicity)
+
+    def angular_momentum(self, omega: Any) -> NDArray[np.float64]:
+        """(3,) angular momentum I w about the centre of mass, ``omega`` in body axes."""
+        return self._core.angular_momentum(as_array("omega", omega, (3,)))
+
+    def kinetic_energy(self, omega: Any) -> float:
+        """Rotational kinetic energy w . I w / 2."""
+        return self._core.kinetic_energy(as_array("omega", omega, (3,)))
+
+    # --- moving and combining -------------------------------------------------------------
+
+    def translated(self, offset: Any) -> Body:
+        """The same body moved by ``offset`` (body coordinates)."""
+        return Body(self._core.translated(as_array("offset", offset, (3,))))
+
+    def rotated(self, rotation: Any) -> Body:
+        """The same body rotated about the origin of body coordinates (``x_new = R x``).
+
+        ``rotation`` is a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) quaternion.
+        """
+        return Body(self._core.rotated(as_rotation_matrix("rotation", rotation)))
+
+    def scaled(self, mass_scale: float = 1.0, length_scale: float = 1.0) -> Body:
+        """The same body with masses times ``mass_scale`` and lengths times ``length_scale``."""
+        return Body(
+            self._core.scaled(
+                as_scalar("mass_scale", mass_scale), as_scalar("length_scale", length_scale)
+            )
+        )
+
+    def __add__(self, other: object) -> Body:
+        if isinstance(other, Body):
+            return Body(self._core.combined(other._core))
+        return NotImplemented
+
+    def __radd__(self, other: object) -> Body:
+        # sum(bodies) starts from 0.
+        if isinstance(other, int) and not isinstance(other, bool) and other == 0:
+            return self
+        return NotImplemented
+
+    def __repr__(self) -> str:
+        com = np.array2string(self.center_of_mass, precision=6)
+        moments = np.array2string(self.principal().moments, precision=6)
+        return f"Body(mass={self.mass:.6g}, center_of_mass={com}, principal_moments={moments})"

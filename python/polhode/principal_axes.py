@@ -1,0 +1,98 @@
+"""Principal moments and axes: the result type and the batch eigensolve."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polhode import _core
+from polhode._coerce import as_scalar
+
+if TYPE_CHECKING:
+    from scipy.spatial.transform import Rotation
+
+__all__ = ["Principal", "principal"]
+
+
+class Principal:
+    """Principal moments and axes of an inertia tensor.
+
+    Unpacks as ``moments, axes = p``.
+
+    Attributes
+    ----------
+    moments : (..., 3) numpy.ndarray
+        Principal moments, ascending.
+    axes : (..., 3, 3) numpy.ndarray
+        Principal axes as the columns of a proper rotation (det = +1): column k belongs to
+        ``moments[..., k]`` and maps principal coordinates to body coordinates,
+        ``inertia = axes @ diag(moments) @ axes.T``.
+    multiplicity : (..., 3) numpy.ndarray of int
+        How many moments (itself included) equal each one within the tolerance: 1 1 1 for an
+        asymmetric body, 2 2 1 or 1 2 2 for a symmetric one, 3 3 3 for a spherical one. Equal
+        moments are returned exactly equal, with the canonical axes closest to the body's own.
+    """
+
+    __slots__ = ("axes", "moments", "multiplicity")
+
+    def __init__(
+        self,
+        moments: NDArray[np.float64],
+        axes: NDArray[np.float64],
+        multiplicity: NDArray[np.int64],
+    ) -> None:
+        self.moments = moments
+        self.axes = axes
+        self.multiplicity = multiplicity
+
+    @property
+    def rotation(self) -> Rotation:
+        """The principal frame as a scipy Rotation (principal to body coordinates)."""
+        from scipy.spatial.transform import Rotation
+
+        return Rotation.from_matrix(self.axes)
+
+    def __iter__(self) -> Iterator[NDArray[np.float64]]:
+        return iter((self.moments, self.axes))
+
+    def __repr__(self) -> str:
+        return (
+            f"Principal(moments={self.moments!r}, axes={self.axes!r}, "
+            f"multiplicity={self.multiplicity!r})"
+        )
+
+
+def principal(inertia: Any, rtol: float | None = None) -> Principal:
+    """Principal moments (ascending) and axes of one tensor (3, 3) or a batch (N, 3, 3).
+
+    A backward-stable cyclic Jacobi eigensolve on the tensor shifted by trace/3, run in Rust on
+    all cores with the GIL released. The tensor must be finite and symmetric (to 64 eps of its
+    largest entry); it need not be a physical inertia tensor.
+
+    Parameters
+    ----------
+    inertia : (3, 3) or (N, 3, 3) array_like
+        Symmetric tensors.
+    rtol : float, optional
+        Moments whose gap is at most ``rtol * ||inertia||_F`` count as equal (default 8 eps):
+        they are returned equal, flagged in ``multiplicity``, with canonical axes.
+
+    Returns
+    -------
+    Principal
+        ``moments`` (3,) or (N, 3), ``axes`` (3, 3) or (N, 3, 3), ``multiplicity``.
+    """
+    if isinstance(inertia, str | bytes):
+        raise TypeError(f"Expected `inertia` to be an array of numbers, got {type(inertia).__name__}.")
+    try:
+        array = np.ascontiguousarray(inertia, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise TypeError(
+            f"Expected `inertia` to be an array of numbers, got {type(inertia).__name__}."
+        ) from error
+    tolerance = None if rtol is None else as_scalar("rtol", rtol)
+    moments, axes, multiplicity = _core.principal(array, tolerance)
+    return Principal(moments, axes, multiplicity)

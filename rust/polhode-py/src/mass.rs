@@ -1,0 +1,334 @@
+//! `MassProperties` and the batch principal-axes solve.
+
+use numpy::ndarray::Array;
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
+use polhode::MassProperties;
+use pyo3::prelude::*;
+
+use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py, vectors};
+use crate::errors::{CoreError, CoreResult};
+
+/// Mass, centre of mass and second moments of a rigid body (immutable). Wrapped by
+/// `polhode.Body`.
+#[pyclass(frozen, module = "polhode._core", name = "MassProperties")]
+#[derive(Clone)]
+pub struct PyMassProperties(pub MassProperties);
+
+fn wrap(result: polhode::Result<MassProperties>) -> CoreResult<PyMassProperties> {
+    Ok(PyMassProperties(result?))
+}
+
+#[pymethods]
+impl PyMassProperties {
+    #[staticmethod]
+    fn point_masses(
+        py: Python<'_>,
+        masses: PyReadonlyArray1<'_, f64>,
+        positions: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Self> {
+        let positions = vectors("positions", &positions)?;
+        let masses = masses.as_array().to_vec();
+        Ok(py.detach(|| wrap(MassProperties::point_masses(&masses, &positions)))?)
+    }
+
+    #[staticmethod]
+    fn point(mass: f64) -> CoreResult<Self> {
+        wrap(MassProperties::point(mass))
+    }
+
+    #[staticmethod]
+    fn sphere(mass: f64, radius: f64) -> CoreResult<Self> {
+        wrap(MassProperties::sphere(mass, radius))
+    }
+
+    #[staticmethod]
+    fn spherical_shell(mass: f64, radius: f64) -> CoreResult<Self> {
+        wrap(MassProperties::spherical_shell(mass, radius))
+    }
+
+    #[staticmethod]
+    fn cuboid(mass: f64, size: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
+        Ok(wrap(MassProperties::cuboid(mass, vector3("size", &size)?))?)
+    }
+
+    #[staticmethod]
+    fn cylinder(mass: f64, radius: f64, length: f64) -> CoreResult<Self> {
+        wrap(MassProperties::cylinder(mass, radius, length))
+    }
+
+    #[staticmethod]
+    fn tube(mass: f64, inner_radius: f64, outer_radius: f64, length: f64) -> CoreResult<Self> {
+        wrap(MassProperties::tube(
+            mass,
+            inner_radius,
+            outer_radius,
+            length,
+        ))
+    }
+
+    #[staticmethod]
+    fn cone(mass: f64, radius: f64, height: f64) -> CoreResult<Self> {
+        wrap(MassProperties::cone(mass, radius, height))
+    }
+
+    #[staticmethod]
+    fn ellipsoid(mass: f64, semi_axes: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
+        Ok(wrap(MassProperties::ellipsoid(
+            mass,
+            vector3("semi_axes", &semi_axes)?,
+        ))?)
+    }
+
+    #[staticmethod]
+    fn rod(mass: f64, length: f64) -> CoreResult<Self> {
+        wrap(MassProperties::rod(mass, length))
+    }
+
+    #[staticmethod]
+    fn disk(mass: f64, radius: f64) -> CoreResult<Self> {
+        wrap(MassProperties::disk(mass, radius))
+    }
+
+    #[staticmethod]
+    fn torus(mass: f64, major_radius: f64, minor_radius: f64) -> CoreResult<Self> {
+        wrap(MassProperties::torus(mass, major_radius, minor_radius))
+    }
+
+    #[staticmethod]
+    fn capsule(mass: f64, radius: f64, length: f64) -> CoreResult<Self> {
+        wrap(MassProperties::capsule(mass, radius, length))
+    }
+
+    #[staticmethod]
+    fn from_inertia(
+        mass: f64,
+        inertia: PyReadonlyArray2<'_, f64>,
+        center_of_mass: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let inertia = matrix3("inertia", &inertia)?;
+        let center_of_mass = vector3("center_of_mass", &center_of_mass)?;
+        Ok(wrap(MassProperties::from_inertia(
+            mass,
+            &inertia,
+            &center_of_mass,
+        ))?)
+    }
+
+    #[getter]
+    fn mass(&self) -> f64 {
+        self.0.mass()
+    }
+
+    #[getter]
+    fn center_of_mass<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vector_to_py(py, &self.0.center_of_mass())
+    }
+
+    #[getter]
+    fn inertia<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        matrix_to_py(py, &self.0.inertia())
+    }
+
+    #[getter]
+    fn second_moment<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        matrix_to_py(py, &self.0.second_moment())
+    }
+
+    #[pyo3(signature = (point, axes=None))]
+    fn inertia_about<'py>(
+        &self,
+        py: Python<'py>,
+        point: PyReadonlyArray1<'_, f64>,
+        axes: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let point = vector3("point", &point)?;
+        for k in 0..3 {
+            if !point[k].is_finite() {
+                return Err(CoreError(polhode::Error::NonFinite {
+                    name: format!("point[{k}]"),
+                    value: point[k],
+                })
+                .into());
+            }
+        }
+        let tensor = match axes {
+            None => self.0.inertia_about(&point),
+            Some(axes) => {
+                let axes = matrix3("axes", &axes)?;
+                check_rotation("axes", &axes)?;
+                self.0.inertia_about_in(&point, &axes)
+            }
+        };
+        Ok(matrix_to_py(py, &tensor))
+    }
+
+    /// Returns (moments (3,), axes (3, 3), multiplicity (3,)).
+    #[pyo3(signature = (rtol=None))]
+    fn principal<'py>(
+        &self,
+        py: Python<'py>,
+        rtol: Option<f64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray1<i64>>,
+    )> {
+        let rtol = checked_rtol(rtol)?;
+        let p = self.0.principal_with(rtol);
+        let multiplicity = Array::from_iter(p.multiplicity.iter().map(|&k| i64::from(k)));
+        Ok((
+            vector_to_py(py, &p.moments),
+            matrix_to_py(py, &p.axes),
+            multiplicity.into_pyarray(py),
+        ))
+    }
+
+    fn translated(&self, offset: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
+        Ok(wrap(self.0.translated(&vector3("offset", &offset)?))?)
+    }
+
+    fn rotated(&self, rotation: PyReadonlyArray2<'_, f64>) -> PyResult<Self> {
+        Ok(wrap(self.0.rotated(&matrix3("rotation", &rotation)?))?)
+    }
+
+    fn scaled(&self, mass_scale: f64, length_scale: f64) -> CoreResult<Self> {
+        wrap(self.0.scaled(mass_scale, length_scale))
+    }
+
+    fn combined(&self, other: &Self) -> Self {
+        Self(self.0 + other.0)
+    }
+
+    fn angular_momentum<'py>(
+        &self,
+        py: Python<'py>,
+        omega: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let omega = finite_vector("omega", &omega)?;
+        Ok(vector_to_py(py, &self.0.angular_momentum(&omega)))
+    }
+
+    fn kinetic_energy(&self, omega: PyReadonlyArray1<'_, f64>) -> PyResult<f64> {
+        let omega = finite_vector("omega", &omega)?;
+        Ok(self.0.kinetic_energy(&omega))
+    }
+}
+
+fn finite_vector(name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<nalgebra::Vector3<f64>> {
+    let v = vector3(name, a)?;
+    for k in 0..3 {
+        if !v[k].is_finite() {
+            return Err(CoreError(polhode::Error::NonFinite {
+                name: format!("{name}[{k}]"),
+                value: v[k],
+            })
+            .into());
+        }
+    }
+    Ok(v)
+}
+
+fn check_rotation(name: &str, m: &nalgebra::Matrix3<f64>) -> PyResult<()> {
+    // Rotating the identity body reuses the core's check of a proper rotation.
+    match MassProperties::point(1.0).and_then(|p| p.rotated(m)) {
+        Ok(_) => Ok(()),
+        Err(polhode::Error::InvalidArgument { reason, .. }) => {
+            Err(CoreError(polhode::Error::InvalidArgument {
+                name: name.into(),
+                reason,
+            })
+            .into())
+        }
+        Err(e) => Err(CoreError(e).into()),
+    }
+}
+
+fn checked_rtol(rtol: Option<f64>) -> PyResult<f64> {
+    let rtol = rtol.unwrap_or(polhode::eigen::DEFAULT_RTOL);
+    if !(rtol.is_finite() && rtol >= 0.0) {
+        return Err(CoreError(polhode::Error::InvalidArgument {
+            name: "rtol".into(),
+            reason: format!("expected a finite number >= 0, got {rtol}."),
+        })
+        .into());
+    }
+    Ok(rtol)
+}
+
+/// Principal moments, axes and multiplicities of a tensor (3, 3) or a batch (N, 3, 3), in
+/// parallel with the GIL released.
+#[pyfunction]
+#[pyo3(signature = (inertia, rtol=None))]
+#[allow(clippy::type_complexity)]
+pub fn principal<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArrayDyn<'py, f64>,
+    rtol: Option<f64>,
+) -> PyResult<(
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<i64>>,
+)> {
+    let rtol = checked_rtol(rtol)?;
+    let shape = inertia.shape().to_vec();
+    let single = shape == [3, 3];
+    if !(single || (shape.len() == 3 && shape[1] == 3 && shape[2] == 3)) {
+        return Err(bad_shape("inertia", "(3, 3) or (N, 3, 3)", &shape));
+    }
+    let n = if single { 1 } else { shape[0] };
+    let data: Vec<f64>;
+    let slice = match inertia.as_slice() {
+        Ok(s) => s,
+        Err(_) => {
+            data = inertia.as_array().iter().copied().collect();
+            &data
+        }
+    };
+    let mut moments = vec![0.0; 3 * n];
+    let mut axes = vec![0.0; 9 * n];
+    let mut multiplicity = vec![0u8; 3 * n];
+    py.detach(|| {
+        polhode::eigen::principal_batch(slice, rtol, &mut moments, &mut axes, &mut multiplicity)
+    })
+    .map_err(|e| {
+        if single {
+            CoreError(rename_single(e))
+        } else {
+            CoreError(e)
+        }
+    })?;
+    let (moments_shape, axes_shape) = if single {
+        (vec![3], vec![3, 3])
+    } else {
+        (vec![n, 3], vec![n, 3, 3])
+    };
+    let multiplicity: Vec<i64> = multiplicity.into_iter().map(i64::from).collect();
+    let to_py = |v: Vec<f64>, s: Vec<usize>| -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        Ok(Array::from_shape_vec(s, v)
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
+            .into_pyarray(py))
+    };
+    let m = Array::from_shape_vec(moments_shape.clone(), multiplicity)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
+        .into_pyarray(py);
+    Ok((to_py(moments, moments_shape)?, to_py(axes, axes_shape)?, m))
+}
+
+/// For a single tensor, `inertia[0]` in a message is just `inertia`.
+fn rename_single(error: polhode::Error) -> polhode::Error {
+    let fix = |name: String| name.replacen("inertia[0]", "inertia", 1);
+    match error {
+        polhode::Error::NonFinite { name, value } => polhode::Error::NonFinite {
+            name: fix(name),
+            value,
+        },
+        polhode::Error::InvalidInertia { name, reason } => polhode::Error::InvalidInertia {
+            name: fix(name),
+            reason,
+        },
+        other => other,
+    }
+}

@@ -1,0 +1,312 @@
+//! Mass properties: mass, centre of mass and inertia of point masses, solids and composites.
+//!
+//! [`MassProperties`] keeps the second-moment matrix about the centre of mass,
+//! `C = sum m r r^T`, in a square-root form (`C = c 1 + F^T F`) rather than the inertia tensor
+//! `I = tr(C) 1 - C`: composition and principal axes then never lose the small moments of a
+//! needle or the tiny anisotropy of a heavy sphere with a speck on it (NUMERICS.md).
+
+mod factor;
+mod points;
+mod solids;
+
+use std::ops::Add;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::eigen::{self, Principal, DEFAULT_RTOL};
+use crate::error::{finite, positive, Error, Result};
+use factor::SecondMoment;
+
+/// Mass, centre of mass and second moments of a rigid body, in the body's own axes.
+///
+/// Immutable: [`translated`](Self::translated), [`rotated`](Self::rotated) and `+` return new
+/// values.
+///
+/// ```
+/// use nalgebra::Vector3;
+/// use polhode::MassProperties;
+/// // A 1 kg, 10 cm cube about one of its corners: moments m a^2 (1/6, 11/12, 11/12).
+/// let cube = MassProperties::cuboid(1.0, Vector3::new(0.1, 0.1, 0.1)).unwrap();
+/// let about_corner = cube.inertia_about(&Vector3::new(-0.05, -0.05, -0.05));
+/// let p = polhode::symmetric_eigen3(&about_corner).unwrap();
+/// assert!((p.moments[0] - 0.01 / 6.0).abs() < 1e-16);
+/// assert!((p.moments[2] - 0.01 * 11.0 / 12.0).abs() < 1e-16);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MassProperties {
+    mass: f64,
+    /// The centre of mass as an unevaluated sum `high + low` (double-double): far from the
+    /// origin its rounding would otherwise leak, linearly, into the vectors between the parts
+    /// of a composite and from there into the second moments.
+    center_of_mass: Vector3<f64>,
+    center_of_mass_low: Vector3<f64>,
+    second_moment: SecondMoment,
+}
+
+/// `a + b` as `(s, e)` with `s = fl(a + b)` and `a + b = s + e` exactly (Knuth's TwoSum).
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `high + low` as a renormalised double-double vector.
+pub(crate) fn renormalised(high: Vector3<f64>, low: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let mut h = Vector3::zeros();
+    let mut l = Vector3::zeros();
+    for k in 0..3 {
+        (h[k], l[k]) = two_sum(high[k], low[k]);
+    }
+    (h, l)
+}
+
+impl MassProperties {
+    /// A body from its mass, centre of mass and second moment, all validated by the caller.
+    fn new(mass: f64, center_of_mass: Vector3<f64>, second_moment: SecondMoment) -> Self {
+        Self {
+            mass,
+            center_of_mass,
+            center_of_mass_low: Vector3::zeros(),
+            second_moment,
+        }
+    }
+
+    /// The vector from `point` to the centre of mass, to double-double accuracy before the last
+    /// rounding.
+    fn offset_of_center(&self, point: &Vector3<f64>) -> Vector3<f64> {
+        (self.center_of_mass - point) + self.center_of_mass_low
+    }
+
+    /// A body from its mass, its inertia tensor about its centre of mass and that centre.
+    ///
+    /// The tensor must be finite, symmetric (to 64 eps), positive semidefinite and satisfy the
+    /// triangle inequality `I1 + I2 >= I3`, each to a relative tolerance of
+    /// `16 eps tr(I) / 2`; planar (`I1 + I2 = I3`) and collinear (a zero moment) bodies are
+    /// valid.
+    pub fn from_inertia(
+        mass: f64,
+        inertia: &Matrix3<f64>,
+        center_of_mass: &Vector3<f64>,
+    ) -> Result<Self> {
+        positive("mass", mass)?;
+        check_vector("center_of_mass", center_of_mass)?;
+        let inertia = eigen::checked_symmetric(inertia, "inertia")?;
+        let p = eigen::eigen_symmetric_unchecked(&inertia, 0.0);
+        let half_trace = 0.5 * p.moments.sum();
+        let tolerance = 16.0 * f64::EPSILON * half_trace.abs();
+        // Principal second moments c_k = tr(I)/2 - I_k; all must be >= 0 (the triangle
+        // inequality; it implies I >= 0).
+        let c = p.moments.map(|ik| half_trace - ik);
+        if p.moments[0] < -tolerance {
+            return Err(Error::InvalidInertia {
+                name: "inertia".into(),
+                reason: format!(
+                    "it must be positive semidefinite, but its smallest principal moment is {:e}.",
+                    p.moments[0]
+                ),
+            });
+        }
+        if c.min() < -tolerance {
+            return Err(Error::InvalidInertia {
+                name: "inertia".into(),
+                reason: format!(
+                    "its principal moments {:e}, {:e}, {:e} break the triangle inequality \
+                     I1 + I2 >= I3.",
+                    p.moments[0], p.moments[1], p.moments[2]
+                ),
+            });
+        }
+        // C = V diag(c) V^T = iso 1 + (D V^T)^T (D V^T), D = sqrt(c - iso).
+        let diagonal = SecondMoment::diagonal(c);
+        let second_moment = SecondMoment {
+            isotropic: diagonal.isotropic,
+            factor: diagonal.factor * p.axes.transpose(),
+        };
+        Ok(Self::new(mass, *center_of_mass, second_moment))
+    }
+
+    /// The total mass.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// The centre of mass, in body coordinates.
+    pub fn center_of_mass(&self) -> Vector3<f64> {
+        self.center_of_mass
+    }
+
+    /// The second-moment matrix `sum m r r^T` about the centre of mass.
+    pub fn second_moment(&self) -> Matrix3<f64> {
+        self.second_moment.matrix()
+    }
+
+    /// The inertia tensor about the centre of mass, in body axes: `I = tr(C) 1 - C`.
+    pub fn inertia(&self) -> Matrix3<f64> {
+        let s = &self.second_moment;
+        let f = &s.factor;
+        Matrix3::identity() * (2.0 * s.isotropic + s.anisotropic_trace()) - f.tr_mul(f)
+    }
+
+    /// The inertia tensor about `point` (body coordinates), in body axes:
+    /// `I_p = I + M (|d|^2 1 - d d^T)` with `d` the centre of mass seen from `point`.
+    pub fn inertia_about(&self, point: &Vector3<f64>) -> Matrix3<f64> {
+        let d = self.offset_of_center(point);
+        self.inertia() + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * self.mass
+    }
+
+    /// The inertia tensor about `point` in the axes given by the columns of `axes` (a rotation
+    /// whose columns are the new axes in body coordinates): `A^T I_p A`.
+    pub fn inertia_about_in(&self, point: &Vector3<f64>, axes: &Matrix3<f64>) -> Matrix3<f64> {
+        let i = axes.transpose() * self.inertia_about(point) * axes;
+        (i + i.transpose()) * 0.5
+    }
+
+    /// Principal moments (ascending) and axes about the centre of mass, with the default
+    /// tolerance for equal moments.
+    pub fn principal(&self) -> Principal {
+        self.principal_with(DEFAULT_RTOL)
+    }
+
+    /// Principal moments and axes; moments whose gap is at most `rtol` times the anisotropic part
+    /// `tr(F^T F)` count as equal.
+    ///
+    /// The moments are `I_k = 2 c + sum_{j != k} s_j^2` with `s` the singular values of the
+    /// factor `F` (a one-sided Jacobi SVD): no cancellation, so a needle's near-zero moment keeps
+    /// its relative accuracy, and the axes are those of `F` alone, so the anisotropy of a heavy
+    /// sphere plus a speck keeps its direction to round-off.
+    pub fn principal_with(&self, rtol: f64) -> Principal {
+        let s = &self.second_moment;
+        let (sv, axes) = eigen::right_singular(&s.factor);
+        let sq = sv.map(|x| x * x);
+        let iso2 = 2.0 * s.isotropic;
+        let moments = [
+            iso2 + (sq[1] + sq[2]),
+            iso2 + (sq[0] + sq[2]),
+            iso2 + (sq[0] + sq[1]),
+        ];
+        eigen::canonical(moments, axes, rtol * (sq[0] + sq[1] + sq[2]))
+    }
+
+    /// The same body moved by `offset` (body coordinates).
+    pub fn translated(&self, offset: &Vector3<f64>) -> Result<Self> {
+        check_vector("offset", offset)?;
+        let mut sum = Vector3::zeros();
+        let mut error = Vector3::zeros();
+        for k in 0..3 {
+            (sum[k], error[k]) = two_sum(self.center_of_mass[k], offset[k]);
+        }
+        let (high, low) = renormalised(sum, self.center_of_mass_low + error);
+        Ok(Self {
+            center_of_mass: high,
+            center_of_mass_low: low,
+            ..*self
+        })
+    }
+
+    /// The same body rotated by the proper rotation `rotation` (`x_new = R x`) about the origin
+    /// of the body coordinates.
+    pub fn rotated(&self, rotation: &Matrix3<f64>) -> Result<Self> {
+        check_rotation("rotation", rotation)?;
+        let (high, low) = renormalised(
+            rotation * self.center_of_mass,
+            rotation * self.center_of_mass_low,
+        );
+        Ok(Self {
+            mass: self.mass,
+            center_of_mass: high,
+            center_of_mass_low: low,
+            second_moment: self.second_moment.rotated(rotation),
+        })
+    }
+
+    /// Angular momentum `L = I w` about the centre of mass, `omega` in body axes.
+    pub fn angular_momentum(&self, omega: &Vector3<f64>) -> Vector3<f64> {
+        self.inertia() * omega
+    }
+
+    /// Kinetic energy of rotation `T = w . I w / 2`.
+    pub fn kinetic_energy(&self, omega: &Vector3<f64>) -> f64 {
+        0.5 * omega.dot(&(self.inertia() * omega))
+    }
+
+    /// The same body with every mass multiplied by `mass_scale` and every length by
+    /// `length_scale`.
+    pub fn scaled(&self, mass_scale: f64, length_scale: f64) -> Result<Self> {
+        positive("mass_scale", mass_scale)?;
+        positive("length_scale", length_scale)?;
+        Ok(Self {
+            mass: self.mass * mass_scale,
+            center_of_mass: self.center_of_mass * length_scale,
+            center_of_mass_low: self.center_of_mass_low * length_scale,
+            second_moment: self
+                .second_moment
+                .scaled(mass_scale * length_scale * length_scale),
+        })
+    }
+}
+
+/// A composite: each part's second moment shifted to the combined centre of mass.
+///
+/// The shift terms of the two parts add up to one rank-one term `mu D D^T` with the reduced mass
+/// `mu = m_a m_b / (m_a + m_b)` and `D` the vector between the two centres, so nothing is summed
+/// about a far origin.
+impl Add for MassProperties {
+    type Output = MassProperties;
+
+    fn add(self, other: MassProperties) -> MassProperties {
+        let mass = self.mass + other.mass;
+        let between = other.offset_of_center(&self.center_of_mass) - self.center_of_mass_low;
+        let (high, low) = renormalised(
+            self.center_of_mass,
+            self.center_of_mass_low + between * (other.mass / mass),
+        );
+        let reduced = self.mass * (other.mass / mass);
+        let row = between * reduced.sqrt();
+        let second_moment = factor::combine(&self.second_moment, &other.second_moment, &[row]);
+        MassProperties {
+            mass,
+            center_of_mass: high,
+            center_of_mass_low: low,
+            second_moment,
+        }
+    }
+}
+
+impl Add for &MassProperties {
+    type Output = MassProperties;
+
+    fn add(self, other: &MassProperties) -> MassProperties {
+        *self + *other
+    }
+}
+
+fn check_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
+    for k in 0..3 {
+        finite(&format!("{name}[{k}]"), v[k])?;
+    }
+    Ok(())
+}
+
+/// A proper rotation: finite, orthogonal and with det = +1, each to `1e-9` (a rotation typed
+/// with ten digits passes; a scaled or reflected matrix does not).
+pub(crate) fn check_rotation(name: &str, r: &Matrix3<f64>) -> Result<()> {
+    for row in 0..3 {
+        for col in 0..3 {
+            finite(&format!("{name}[{row}, {col}]"), r[(row, col)])?;
+        }
+    }
+    let defect = (r.transpose() * r - Matrix3::identity()).norm();
+    if defect > 1e-9 {
+        return Err(Error::InvalidArgument {
+            name: name.into(),
+            reason: format!("expected an orthogonal matrix, but |R^T R - 1| = {defect:e}."),
+        });
+    }
+    if r.determinant() < 0.0 {
+        return Err(Error::InvalidArgument {
+            name: name.into(),
+            reason: "expected a proper rotation (det = +1), got a reflection (det = -1).".into(),
+        });
+    }
+    Ok(())
+}

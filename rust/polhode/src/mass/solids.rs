@@ -1,0 +1,183 @@
+//! Closed-form mass properties of the standard solids, each about its centre of mass.
+//!
+//! Each solid is given by its principal second moments `C = diag(c)` (`c_x = sum m x^2`, ...),
+//! from which `I = tr(C) 1 - C`; the sources are the standard tables (e.g. Fetter & Walecka
+//! ch. 5; NUMERICS.md lists each).
+
+use nalgebra::Vector3;
+
+use super::factor::SecondMoment;
+use super::MassProperties;
+use crate::error::{positive, Error, Result};
+
+fn diagonal(mass: f64, c: Vector3<f64>) -> MassProperties {
+    MassProperties::new(mass, Vector3::zeros(), SecondMoment::diagonal(c))
+}
+
+fn non_negative(name: &str, value: f64) -> Result<f64> {
+    crate::error::finite(name, value)?;
+    if value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::InvalidArgument {
+            name: name.into(),
+            reason: format!("expected a non-negative number, got {value}."),
+        })
+    }
+}
+
+impl MassProperties {
+    /// A single point mass at the origin.
+    pub fn point(mass: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        Ok(Self::new(mass, Vector3::zeros(), SecondMoment::ZERO))
+    }
+
+    /// A solid sphere: `I = 2/5 m r^2`.
+    pub fn sphere(mass: f64, radius: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("radius", radius)?;
+        Ok(diagonal(
+            mass,
+            Vector3::repeat(mass * radius * radius / 5.0),
+        ))
+    }
+
+    /// A thin spherical shell: `I = 2/3 m r^2`.
+    pub fn spherical_shell(mass: f64, radius: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("radius", radius)?;
+        Ok(diagonal(
+            mass,
+            Vector3::repeat(mass * radius * radius / 3.0),
+        ))
+    }
+
+    /// A solid box (cuboid) with full edge lengths `size` along x, y, z:
+    /// `I_x = m (b^2 + c^2) / 12` and cyclic.
+    pub fn cuboid(mass: f64, size: Vector3<f64>) -> Result<Self> {
+        positive("mass", mass)?;
+        for k in 0..3 {
+            positive(&format!("size[{k}]"), size[k])?;
+        }
+        Ok(diagonal(mass, size.map(|a| mass * a * a / 12.0)))
+    }
+
+    /// A solid cylinder, symmetry axis z: `I_z = m r^2 / 2`, `I_x = m (3 r^2 + L^2) / 12`.
+    pub fn cylinder(mass: f64, radius: f64, length: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("radius", radius)?;
+        positive("length", length)?;
+        let radial = mass * radius * radius / 4.0;
+        Ok(diagonal(
+            mass,
+            Vector3::new(radial, radial, mass * length * length / 12.0),
+        ))
+    }
+
+    /// A thick-walled tube, axis z: `I_z = m (r1^2 + r2^2) / 2`,
+    /// `I_x = m (3 (r1^2 + r2^2) + L^2) / 12`. `inner_radius` may be 0 (a cylinder).
+    pub fn tube(mass: f64, inner_radius: f64, outer_radius: f64, length: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        non_negative("inner_radius", inner_radius)?;
+        positive("outer_radius", outer_radius)?;
+        positive("length", length)?;
+        if inner_radius >= outer_radius {
+            return Err(Error::InvalidArgument {
+                name: "inner_radius".into(),
+                reason: format!(
+                    "expected inner_radius < outer_radius, got {inner_radius} >= {outer_radius}."
+                ),
+            });
+        }
+        let radial = mass * (inner_radius * inner_radius + outer_radius * outer_radius) / 4.0;
+        Ok(diagonal(
+            mass,
+            Vector3::new(radial, radial, mass * length * length / 12.0),
+        ))
+    }
+
+    /// A solid right circular cone with its base disc in the plane z = 0 centred on the z axis
+    /// and its apex at z = `height`; the centre of mass is at z = h/4. About it:
+    /// `I_z = 3/10 m r^2`, `I_x = 3/20 m r^2 + 3/80 m h^2`.
+    pub fn cone(mass: f64, radius: f64, height: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("radius", radius)?;
+        positive("height", height)?;
+        let radial = 3.0 * mass * radius * radius / 20.0;
+        let axial = 3.0 * mass * height * height / 80.0;
+        let mut body = diagonal(mass, Vector3::new(radial, radial, axial));
+        body.center_of_mass = Vector3::new(0.0, 0.0, height / 4.0);
+        Ok(body)
+    }
+
+    /// A solid ellipsoid with semi-axes (a, b, c) along x, y, z: `I_x = m (b^2 + c^2) / 5`.
+    pub fn ellipsoid(mass: f64, semi_axes: Vector3<f64>) -> Result<Self> {
+        positive("mass", mass)?;
+        for k in 0..3 {
+            positive(&format!("semi_axes[{k}]"), semi_axes[k])?;
+        }
+        Ok(diagonal(mass, semi_axes.map(|a| mass * a * a / 5.0)))
+    }
+
+    /// A thin rod along z: `I_x = I_y = m L^2 / 12`, `I_z = 0`.
+    pub fn rod(mass: f64, length: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("length", length)?;
+        Ok(diagonal(
+            mass,
+            Vector3::new(0.0, 0.0, mass * length * length / 12.0),
+        ))
+    }
+
+    /// A thin disc in the xy plane: `I_z = m r^2 / 2`, `I_x = I_y = m r^2 / 4`.
+    pub fn disk(mass: f64, radius: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("radius", radius)?;
+        let radial = mass * radius * radius / 4.0;
+        Ok(diagonal(mass, Vector3::new(radial, radial, 0.0)))
+    }
+
+    /// A solid torus, symmetry axis z, tube radius `minor_radius` <= `major_radius`:
+    /// `I_z = m (R^2 + 3 a^2 / 4)`, `I_x = m (R^2 / 2 + 5 a^2 / 8)`.
+    pub fn torus(mass: f64, major_radius: f64, minor_radius: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("major_radius", major_radius)?;
+        positive("minor_radius", minor_radius)?;
+        if minor_radius > major_radius {
+            return Err(Error::InvalidArgument {
+                name: "minor_radius".into(),
+                reason: format!(
+                    "expected minor_radius <= major_radius (a ring or horn torus), got \
+                     {minor_radius} > {major_radius}."
+                ),
+            });
+        }
+        let (r2, a2) = (major_radius * major_radius, minor_radius * minor_radius);
+        let radial = mass * (r2 / 2.0 + 3.0 * a2 / 8.0);
+        Ok(diagonal(
+            mass,
+            Vector3::new(radial, radial, mass * a2 / 4.0),
+        ))
+    }
+
+    /// A capsule: a cylinder of `length` (>= 0) and `radius` along z capped by two hemispheres,
+    /// uniform density. With the cylinder's mass `m_c` and the hemispheres' `m_s` split by
+    /// volume: `I_z = m_c r^2 / 2 + 2/5 m_s r^2`,
+    /// `I_x = m_c (3 r^2 + h^2) / 12 + m_s (2 r^2 / 5 + h^2 / 4 + 3 h r / 8)`.
+    pub fn capsule(mass: f64, radius: f64, length: f64) -> Result<Self> {
+        positive("mass", mass)?;
+        positive("radius", radius)?;
+        non_negative("length", length)?;
+        let (r, h) = (radius, length);
+        // Volumes pi r^2 h and 4/3 pi r^3; the common pi r^2 cancels.
+        let cylinder_share = h / (h + 4.0 * r / 3.0);
+        let m_c = mass * cylinder_share;
+        let m_s = mass - m_c;
+        let radial = m_c * r * r / 4.0 + m_s * r * r / 5.0;
+        // A hemisphere of radius r has its flat face at z = h/2: z^2 averages
+        // h^2/4 + h (3 r / 8) + r^2 / 5 over it.
+        let axial = m_c * h * h / 12.0 + m_s * (h * h / 4.0 + 3.0 * h * r / 8.0 + r * r / 5.0);
+        Ok(diagonal(mass, Vector3::new(radial, radial, axial)))
+    }
+}
