@@ -93,70 +93,121 @@ pub(crate) fn checked_symmetric(tensor: &Matrix3<f64>, name: &str) -> Result<Mat
 
 /// Eigen-decomposition of a symmetric, finite tensor (not checked).
 pub(crate) fn eigen_symmetric_unchecked(a: &Matrix3<f64>, rtol: f64) -> Principal {
-    let shift = (a[(0, 0)] + a[(1, 1)] + a[(2, 2)]) / 3.0;
-    let mut s = [[0.0; 3]; 3];
-    for (r, row) in s.iter_mut().enumerate() {
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = a[(r, c)];
-        }
-        row[r] -= shift;
-    }
-    let (values, vectors) = jacobi(s);
-    let scale = a.norm();
-    canonical(
-        [values[0] + shift, values[1] + shift, values[2] + shift],
-        vectors,
-        rtol * scale,
-    )
+    let mut lanes = Lanes::<1>::default();
+    lanes.load(0, a);
+    lanes.solve();
+    lanes.principal(0, rtol)
 }
 
-/// Cyclic Jacobi on a symmetric matrix: eigenvalues (unsorted) and eigenvectors as columns.
-///
-/// Rotations as in Golub & Van Loan, Matrix Computations, 8.5.2 (symmetric Schur
-/// decomposition), with `t` the smaller root so the rotation angle is at most pi/4.
-fn jacobi(mut a: [[f64; 3]; 3]) -> ([f64; 3], Matrix3<f64>) {
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]; // v[row][col]
-    let norm2: f64 = a.iter().flatten().map(|x| x * x).sum();
-    // Off-diagonal mass below (eps^2 ||A||)^2 changes no eigenvalue or vector in double precision.
-    let negligible = norm2 * (f64::EPSILON * f64::EPSILON) * (f64::EPSILON * f64::EPSILON);
-    for _ in 0..MAX_SWEEPS {
-        let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-        if off <= negligible {
-            break;
+/// `L` symmetric tensors solved side by side (`a[r][c][lane]`), so that the divisions and
+/// square roots of independent Jacobi rotations overlap in the pipeline (and in SIMD lanes).
+#[derive(Clone, Copy)]
+struct Lanes<const L: usize> {
+    a: [[[f64; L]; 3]; 3],
+    v: [[[f64; L]; 3]; 3],
+    shift: [f64; L],
+    scale: [f64; L],
+    norm: [f64; L],
+}
+
+impl<const L: usize> Default for Lanes<L> {
+    fn default() -> Self {
+        Self {
+            a: [[[0.0; L]; 3]; 3],
+            v: [[[0.0; L]; 3]; 3],
+            shift: [0.0; L],
+            scale: [1.0; L],
+            norm: [0.0; L],
         }
-        for (p, q, r) in [(0, 1, 2), (0, 2, 1), (1, 2, 0)] {
-            let apq = a[p][q];
-            if apq == 0.0 {
-                continue;
+    }
+}
+
+impl<const L: usize> Lanes<L> {
+    /// Loads tensor `m` into `lane`, shifted by trace/3 and scaled to entries of size <= 1.
+    fn load(&mut self, lane: usize, m: &Matrix3<f64>) {
+        let shift = (m[(0, 0)] + m[(1, 1)] + m[(2, 2)]) / 3.0;
+        let mut largest = 0.0_f64;
+        for r in 0..3 {
+            for c in 0..3 {
+                let x = if r == c { m[(r, c)] - shift } else { m[(r, c)] };
+                largest = largest.max(x.abs());
             }
-            let tau = (a[q][q] - a[p][p]) / (2.0 * apq);
-            let t = if tau.abs() > 1e150 {
-                0.5 / tau
-            } else {
-                tau.signum() / (tau.abs() + (1.0 + tau * tau).sqrt())
-            };
-            let c = 1.0 / (1.0 + t * t).sqrt();
-            let s = t * c;
-            a[p][p] -= t * apq;
-            a[q][q] += t * apq;
-            a[p][q] = 0.0;
-            a[q][p] = 0.0;
-            let (arp, arq) = (a[r][p], a[r][q]);
-            a[r][p] = c * arp - s * arq;
-            a[p][r] = a[r][p];
-            a[r][q] = s * arp + c * arq;
-            a[q][r] = a[r][q];
-            for row in &mut v {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = c * vp - s * vq;
-                row[q] = s * vp + c * vq;
+        }
+        let scale = if largest > 0.0 { largest } else { 1.0 };
+        let inverse = 1.0 / scale;
+        for r in 0..3 {
+            for c in 0..3 {
+                let x = if r == c { m[(r, c)] - shift } else { m[(r, c)] };
+                self.a[r][c][lane] = x * inverse;
+                self.v[r][c][lane] = if r == c { 1.0 } else { 0.0 };
+            }
+        }
+        self.shift[lane] = shift;
+        self.scale[lane] = scale;
+        self.norm[lane] = m.norm();
+    }
+
+    /// Cyclic Jacobi (Golub & Van Loan 8.5.2, symmetric Schur rotations with the smaller root so
+    /// the angle is at most pi/4) until every off-diagonal entry of every lane is below
+    /// `eps/16` of the (unit-scaled) matrix: dropping them is a backward error far inside the
+    /// solver's own rounding, and quadratic convergence gets there one sweep after `eps`.
+    fn solve(&mut self) {
+        let negligible = f64::EPSILON / 16.0;
+        for _ in 0..MAX_SWEEPS {
+            let mut converged = true;
+            for l in 0..L {
+                let a = &self.a;
+                converged &= a[0][1][l].abs() <= negligible
+                    && a[0][2][l].abs() <= negligible
+                    && a[1][2][l].abs() <= negligible;
+            }
+            if converged {
+                break;
+            }
+            for (p, q, r) in [(0, 1, 2), (0, 2, 1), (1, 2, 0)] {
+                let mut c = [1.0; L];
+                let mut s = [0.0; L];
+                let mut t = [0.0; L];
+                for l in 0..L {
+                    let apq = self.a[p][q][l];
+                    let active = apq.abs() > negligible;
+                    let e = if active { 2.0 * apq } else { 1.0 };
+                    let tau = (self.a[q][q][l] - self.a[p][p][l]) / e;
+                    let root = tau.signum() / (tau.abs() + (1.0 + tau * tau).sqrt());
+                    t[l] = if active { root } else { 0.0 };
+                    c[l] = 1.0 / (1.0 + t[l] * t[l]).sqrt();
+                    s[l] = t[l] * c[l];
+                }
+                for l in 0..L {
+                    let apq = self.a[p][q][l];
+                    let a = &mut self.a;
+                    a[p][p][l] -= t[l] * apq;
+                    a[q][q][l] += t[l] * apq;
+                    let keep = if t[l] == 0.0 { apq } else { 0.0 };
+                    a[p][q][l] = keep;
+                    a[q][p][l] = keep;
+                    let (arp, arq) = (a[r][p][l], a[r][q][l]);
+                    a[r][p][l] = c[l] * arp - s[l] * arq;
+                    a[p][r][l] = a[r][p][l];
+                    a[r][q][l] = s[l] * arp + c[l] * arq;
+                    a[q][r][l] = a[r][q][l];
+                    for row in &mut self.v {
+                        let (vp, vq) = (row[p][l], row[q][l]);
+                        row[p][l] = c[l] * vp - s[l] * vq;
+                        row[q][l] = s[l] * vp + c[l] * vq;
+                    }
+                }
             }
         }
     }
-    let vectors = Matrix3::new(
-        v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2],
-    );
-    ([a[0][0], a[1][1], a[2][2]], vectors)
+
+    /// The canonical principal frame of `lane`; equal moments within `rtol ||A||_F`.
+    fn principal(&self, lane: usize, rtol: f64) -> Principal {
+        let (shift, scale) = (self.shift[lane], self.scale[lane]);
+        let values = [0, 1, 2].map(|k| self.a[k][k][lane] * scale + shift);
+        let vectors = Matrix3::from_fn(|r, c| self.v[r][c][lane]);
+        canonical(values, vectors, rtol * self.norm[lane])
+    }
 }
 
 /// One-sided (Hestenes) Jacobi SVD of a 3x3 factor `f`: the singular values and the right
@@ -306,6 +357,7 @@ pub fn principal_batch(
         });
     }
     const CHUNK: usize = 4096;
+    const LANES: usize = 4;
     tensors
         .par_chunks(9 * CHUNK)
         .zip(moments.par_chunks_mut(3 * CHUNK))
@@ -313,25 +365,30 @@ pub fn principal_batch(
         .zip(multiplicity.par_chunks_mut(3 * CHUNK))
         .enumerate()
         .try_for_each(|(chunk, (((t, m), x), u))| {
-            for (i, (((ti, mi), xi), ui)) in t
-                .chunks_exact(9)
-                .zip(m.chunks_exact_mut(3))
-                .zip(x.chunks_exact_mut(9))
-                .zip(u.chunks_exact_mut(3))
-                .enumerate()
-            {
-                let tensor = Matrix3::from_row_slice(ti);
-                let name = || format!("inertia[{}]", chunk * CHUNK + i);
-                let a = match checked_symmetric(&tensor, "inertia") {
-                    Ok(a) => a,
-                    Err(e) => return Err(rename(e, &name())),
-                };
-                let p = eigen_symmetric_unchecked(&a, rtol);
-                mi.copy_from_slice(p.moments.as_slice());
-                ui.copy_from_slice(&p.multiplicity);
-                for r in 0..3 {
-                    for c in 0..3 {
-                        xi[3 * r + c] = p.axes[(r, c)];
+            let count = t.len() / 9;
+            for first in (0..count).step_by(LANES) {
+                let mut lanes = Lanes::<LANES>::default();
+                let used = LANES.min(count - first);
+                for l in 0..used {
+                    let i = first + l;
+                    let tensor = Matrix3::from_row_slice(&t[9 * i..9 * i + 9]);
+                    match checked_symmetric(&tensor, "inertia") {
+                        Ok(a) => lanes.load(l, &a),
+                        Err(e) => {
+                            return Err(rename(e, &format!("inertia[{}]", chunk * CHUNK + i)))
+                        }
+                    }
+                }
+                lanes.solve();
+                for l in 0..used {
+                    let i = first + l;
+                    let p = lanes.principal(l, rtol);
+                    m[3 * i..3 * i + 3].copy_from_slice(p.moments.as_slice());
+                    u[3 * i..3 * i + 3].copy_from_slice(&p.multiplicity);
+                    for r in 0..3 {
+                        for c in 0..3 {
+                            x[9 * i + 3 * r + c] = p.axes[(r, c)];
+                        }
                     }
                 }
             }

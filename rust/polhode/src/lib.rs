@@ -35,3 +35,8 @@ pub mod mass;
 pub use eigen::{symmetric_eigen3, Principal};
 pub use error::{Error, Result};
 pub use mass::MassProperties;
+
+/// The README's Rust example, run as a doctest so that it stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;

@@ -54,8 +54,10 @@ impl MassProperties {
                     value: m,
                 });
             }
-            for k in 0..3 {
-                finite(&format!("positions[{i}, {k}]"), r[k])?;
+            if !(r[0].is_finite() && r[1].is_finite() && r[2].is_finite()) {
+                for k in 0..3 {
+                    finite(&format!("positions[{i}, {k}]"), r[k])?;
+                }
             }
         }
         let reference = positions[0];

@@ -1,0 +1,1 @@
+"""Speed-versus-accuracy benchmarks against the peers (not part of the test suite)."""
