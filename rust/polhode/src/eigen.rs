@@ -283,7 +283,7 @@ pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64)
         let mean = 0.5 * (moments[first] + moments[second]);
         moments[first] = mean;
         moments[second] = mean;
-        let u = signed(column(unique));
+        let u = signed(column(unique)).normalize();
         // In the plane: the projection of the body axis most perpendicular to `u` (the first
         // such axis on a tie), then the axis that completes a right-handed frame.
         let mut j = 0;
@@ -304,8 +304,11 @@ pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64)
         multiplicity[unique] = 1;
         (axes, multiplicity)
     } else {
-        let a0 = signed(column(0));
-        let a1 = signed(column(1));
+        // Gram-Schmidt once: the accumulated rotations leave columns orthogonal only to a few
+        // eps per rotation.
+        let a0 = signed(column(0)).normalize();
+        let a1 = column(1);
+        let a1 = signed(a1 - a0 * a0.dot(&a1)).normalize();
         let a2 = a0.cross(&a1);
         (Matrix3::from_columns(&[a0, a1, a2]), [1, 1, 1])
     };
