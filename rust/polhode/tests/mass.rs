@@ -199,7 +199,9 @@ fn nearly_collinear_cloud_keeps_its_smallest_moment() {
     let e2 = u.cross(&e1);
     let mut state = 7_u64;
     let mut jitter = || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2e-8
     };
     let (mut points, mut coordinates) = (Vec::new(), Vec::new());
