@@ -15,9 +15,9 @@ import argparse
 import statistics
 
 import numpy as np
+import polhode as ph
 from scipy.spatial.transform import Rotation
 
-import polhode as ph
 from benchmarks._common import interleaved, machine, summary
 
 
@@ -90,7 +90,9 @@ def bench_points(n: int, repeats: int) -> None:
     print(f"\npoint-mass assembly, N = {n:.0e}")
     for name in times:
         print(f"  {name:20s} {summary(times[name])}")
-    print(f"  speed-up of polhode over numpy: {ratio:.2f}x   (agreement {diff / scale:.1e} relative)")
+    print(
+        f"  speed-up of polhode over numpy: {ratio:.2f}x   (agreement {diff / scale:.1e} relative)"
+    )
 
 
 def main() -> None:

@@ -1,14 +1,21 @@
 """Type stubs for the compiled core (checked by ``python -m mypy.stubtest polhode._core``)."""
 
+from typing import final
+
 import numpy as np
 from numpy.typing import NDArray
+
+__all__ = ["InertiaError", "MassProperties", "PolhodeError", "principal"]
 
 class PolhodeError(ValueError): ...
 class InertiaError(PolhodeError): ...
 
+@final
 class MassProperties:
     @staticmethod
-    def point_masses(masses: NDArray[np.float64], positions: NDArray[np.float64]) -> MassProperties: ...
+    def point_masses(
+        masses: NDArray[np.float64], positions: NDArray[np.float64]
+    ) -> MassProperties: ...
     @staticmethod
     def point(mass: float) -> MassProperties: ...
     @staticmethod
@@ -20,7 +27,9 @@ class MassProperties:
     @staticmethod
     def cylinder(mass: float, radius: float, length: float) -> MassProperties: ...
     @staticmethod
-    def tube(mass: float, inner_radius: float, outer_radius: float, length: float) -> MassProperties: ...
+    def tube(
+        mass: float, inner_radius: float, outer_radius: float, length: float
+    ) -> MassProperties: ...
     @staticmethod
     def cone(mass: float, radius: float, height: float) -> MassProperties: ...
     @staticmethod

@@ -61,19 +61,25 @@ class Body:
     @classmethod
     def sphere(cls, mass: float, radius: float) -> Body:
         """A solid sphere: I = 2/5 m r^2."""
-        return cls(_core.MassProperties.sphere(as_scalar("mass", mass), as_scalar("radius", radius)))
+        return cls(
+            _core.MassProperties.sphere(as_scalar("mass", mass), as_scalar("radius", radius))
+        )
 
     @classmethod
     def spherical_shell(cls, mass: float, radius: float) -> Body:
         """A thin spherical shell: I = 2/3 m r^2."""
         return cls(
-            _core.MassProperties.spherical_shell(as_scalar("mass", mass), as_scalar("radius", radius))
+            _core.MassProperties.spherical_shell(
+                as_scalar("mass", mass), as_scalar("radius", radius)
+            )
         )
 
     @classmethod
     def box(cls, mass: float, size: Any) -> Body:
         """A solid box with full edge lengths ``size`` = (a, b, c) along x, y, z."""
-        return cls(_core.MassProperties.cuboid(as_scalar("mass", mass), as_array("size", size, (3,))))
+        return cls(
+            _core.MassProperties.cuboid(as_scalar("mass", mass), as_array("size", size, (3,)))
+        )
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, length: float) -> Body:

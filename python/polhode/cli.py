@@ -21,9 +21,11 @@ def _bodies() -> list[tuple[str, ph.Body]]:
     half = np.radians(104.52) / 2
     water = ph.Body.point_masses(
         [15.999, 1.008, 1.008],
-        [[0.0, 0.0, 0.0],
-         [0.9572 * np.sin(half), 0.0, 0.9572 * np.cos(half)],
-         [-0.9572 * np.sin(half), 0.0, 0.9572 * np.cos(half)]],
+        [
+            [0.0, 0.0, 0.0],
+            [0.9572 * np.sin(half), 0.0, 0.9572 * np.cos(half)],
+            [-0.9572 * np.sin(half), 0.0, 0.9572 * np.cos(half)],
+        ],
     )
     return [
         ("uniform cube (1 kg, 0.1 m) about its centre", ph.Body.box(1.0, [0.1, 0.1, 0.1])),
@@ -43,7 +45,9 @@ def _demo(_: argparse.Namespace) -> int:
         print(f"  centre of mass  {body.center_of_mass}")
         print(f"  moments         {p.moments}   multiplicity {p.multiplicity}")
         for row in np.array2string(p.axes).splitlines():
-            print(f"  axes            {row}" if row.startswith("[[") else f"                  {row}")
+            print(
+                f"  axes            {row}" if row.startswith("[[") else f"                  {row}"
+            )
         print()
     return 0
 

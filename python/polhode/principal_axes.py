@@ -86,7 +86,9 @@ def principal(inertia: Any, rtol: float | None = None) -> Principal:
         ``moments`` (3,) or (N, 3), ``axes`` (3, 3) or (N, 3, 3), ``multiplicity``.
     """
     if isinstance(inertia, str | bytes):
-        raise TypeError(f"Expected `inertia` to be an array of numbers, got {type(inertia).__name__}.")
+        raise TypeError(
+            f"Expected `inertia` to be an array of numbers, got {type(inertia).__name__}."
+        )
     try:
         array = np.ascontiguousarray(inertia, dtype=np.float64)
     except (TypeError, ValueError) as error:
