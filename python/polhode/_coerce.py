@@ -34,7 +34,7 @@ def as_scalar(name: str, value: Any) -> float:
 
 def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np.float64]:
     """A C-contiguous float64 array of the given shape (None matches any length)."""
-    if isinstance(value, str | bytes):
+    if value is None or isinstance(value, str | bytes):
         raise TypeError(f"Expected `{name}` to be an array of numbers, got {type(value).__name__}.")
     try:
         array = np.asarray(value, dtype=np.float64)
@@ -61,7 +61,7 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
         if not rotation.single:
             raise PolhodeError(f"Expected `{name}` to be a single rotation, got a stack.")
         return np.ascontiguousarray(rotation.as_matrix(), dtype=np.float64)
-    if isinstance(rotation, str | bytes):
+    if rotation is None or isinstance(rotation, str | bytes):
         raise TypeError(
             f"Expected `{name}` to be a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) "
             f"quaternion, got {type(rotation).__name__}."

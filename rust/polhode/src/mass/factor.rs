@@ -144,8 +144,15 @@ fn householder_column(col: &mut [f64], rest: &mut [&mut [f64]], j: usize) {
     }
     let original_head = x[0];
     let inverse = 1.0 / scale;
-    for v in x.iter_mut() {
-        *v *= inverse;
+    if inverse.is_finite() {
+        for v in x.iter_mut() {
+            *v *= inverse;
+        }
+    } else {
+        // A subnormal column: its reciprocal overflows, so divide.
+        for v in x.iter_mut() {
+            *v /= scale;
+        }
     }
     let tail: f64 = x[1..].iter().map(|v| v * v).sum();
     if tail == 0.0 {
