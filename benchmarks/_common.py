@@ -40,6 +40,7 @@ def summary(seconds: list[float]) -> str:
 def machine() -> str:
     """One line naming the machine and the versions."""
     import numpy as np
+
     import polhode
 
     return (

@@ -15,9 +15,9 @@ import argparse
 import statistics
 
 import numpy as np
-import polhode as ph
 from scipy.spatial.transform import Rotation
 
+import polhode as ph
 from benchmarks._common import interleaved, machine, summary
 
 

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
-from reference import EPS
 from scipy.spatial.transform import Rotation
+
+from reference import EPS
 
 
 def pytest_configure(config):

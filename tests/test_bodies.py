@@ -10,12 +10,13 @@ import math
 
 import mpmath
 import numpy as np
-import polhode as ph
 import pytest
+from scipy.spatial.transform import Rotation
+
+import polhode as ph
 import reference as ref
 from conftest import assert_close_normwise, check_eigen, norm2
 from reference import EPS
-from scipy.spatial.transform import Rotation
 
 # (constructor name, mass, parameters): one ordinary instance of every solid, plus extreme aspect
 # ratios where a formula could hide a wrong term behind a dominant one.

@@ -9,9 +9,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import polhode as ph
 import pytest
 from scipy.spatial.transform import Rotation
+
+import polhode as ph
 
 NAN, INF = math.nan, math.inf
 GOOD_POSITIONS = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0]]

@@ -7,12 +7,13 @@ import math
 
 import mpmath
 import numpy as np
-import polhode as ph
 import pytest
+from scipy.spatial.transform import Rotation
+
+import polhode as ph
 import reference as ref
 from conftest import NO_MERGE_RTOL, assert_close_normwise, check_eigen, norm2
 from reference import EPS
-from scipy.spatial.transform import Rotation
 
 # ---------------------------------------------------------------------------------------------
 # Far from the origin: eight unit masses at a unit cube's corners moved 1e8 away

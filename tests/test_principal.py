@@ -6,12 +6,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import polhode as ph
 import pytest
+from scipy.spatial.transform import Rotation
+
+import polhode as ph
 import reference as ref
 from conftest import NO_MERGE_RTOL, check_eigen, check_sign_convention, norm2
 from reference import EPS
-from scipy.spatial.transform import Rotation
 
 E_X, E_Y, E_Z = np.eye(3)
 

@@ -8,6 +8,9 @@ delta away differs by M delta^2 (second order) or, in a composition, by ~2 M del
 from __future__ import annotations
 
 import numpy as np
+from hypothesis import assume, given, note
+from hypothesis import strategies as st
+
 import polhode as ph
 import reference as ref
 from conftest import (
@@ -19,8 +22,6 @@ from conftest import (
     solid_specs,
     vectors,
 )
-from hypothesis import assume, given, note
-from hypothesis import strategies as st
 from reference import EPS
 
 
