@@ -11,6 +11,13 @@ use pyo3::prelude::*;
 use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py, vectors};
 use crate::errors::{CoreError, CoreResult};
 
+/// Principal moments (3,), axes (3, 3) and multiplicities (3,) as numpy arrays.
+type PrincipalArrays<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<i64>>,
+);
+
 /// Mass, centre of mass and second moments of a rigid body (immutable). Wrapped by
 /// `polhode.Body`.
 #[pyclass(frozen, module = "polhode._core", name = "MassProperties")]
@@ -167,15 +174,7 @@ impl PyMassProperties {
 
     /// Returns (moments (3,), axes (3, 3), multiplicity (3,)).
     #[pyo3(signature = (rtol=None))]
-    fn principal<'py>(
-        &self,
-        py: Python<'py>,
-        rtol: Option<f64>,
-    ) -> PyResult<(
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray2<f64>>,
-        Bound<'py, PyArray1<i64>>,
-    )> {
+    fn principal<'py>(&self, py: Python<'py>, rtol: Option<f64>) -> PyResult<PrincipalArrays<'py>> {
         let rtol = checked_rtol(rtol)?;
         let p = self.0.principal_with(rtol);
         let multiplicity = Array::from_iter(p.multiplicity.iter().map(|&k| i64::from(k)));

@@ -30,9 +30,9 @@ fn cube_about_a_corner_has_the_textbook_moments() {
     let cube = MassProperties::cuboid(m, Vector3::repeat(a)).unwrap();
     let p = symmetric_eigen3(&cube.inertia_about(&Vector3::repeat(-a / 2.0))).unwrap();
     let expected = [1.0 / 6.0, 11.0 / 12.0, 11.0 / 12.0].map(|k| k * m * a * a);
-    for k in 0..3 {
+    for (k, value) in expected.iter().enumerate() {
         assert!(
-            rel(p.moments[k], expected[k]) < 4.0 * EPS,
+            rel(p.moments[k], *value) < 4.0 * EPS,
             "{k}: {}",
             p.moments[k]
         );
