@@ -1,0 +1,702 @@
+//! Integration over a list of output times, for one body or a batch of bodies.
+
+use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
+use rayon::prelude::*;
+
+use super::dop853::{self, Settings, Tolerance};
+use super::midpoint::{cayley_update, free_midpoint, torqued_midpoint};
+use super::rk4::{rk4, rk4_free_attitude};
+use super::splitting::{free_flow, torqued_step, SplittingOrder};
+use super::state::{Moments, State};
+use super::system::{Free, System, Torqued};
+use super::torque::Torque;
+use crate::error::{finite, positive};
+use crate::{Error, Result};
+
+/// An integration method and its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// Lie-Poisson splitting (see [`super::splitting`]) with fixed step `dt`.
+    Splitting {
+        /// Largest step.
+        dt: f64,
+        /// Order of the composition.
+        order: SplittingOrder,
+    },
+    /// Implicit midpoint rule (see [`super::midpoint`]) with fixed step `dt`.
+    Midpoint {
+        /// Largest step.
+        dt: f64,
+    },
+    /// Classic RK4 (see [`super::rk4`]) with fixed step `dt`.
+    Rk4 {
+        /// Largest step.
+        dt: f64,
+    },
+    /// Adaptive Dormand-Prince 8(5,3) (see [`super::dop853`]).
+    Dop853(Dop853Options),
+}
+
+/// Settings of the adaptive [`Method::Dop853`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dop853Options {
+    /// Relative tolerance, `>= 1e-15` (default `1e-10`).
+    pub rtol: f64,
+    /// Absolute tolerance on the angular velocity, in its units (default `rtol |omega0|`, or
+    /// for a body starting at rest `rtol |omega'(t0)| (t_end - t0)`). The quaternion
+    /// components (dimensionless, `|q| = 1`) use `rtol` as absolute tolerance.
+    pub atol: Option<f64>,
+    /// First step (default: Hairer's estimate).
+    pub first_step: Option<f64>,
+    /// Largest step (default: the whole span). Steps always end at the torque's
+    /// [`Torque::discontinuities`].
+    pub max_step: Option<f64>,
+}
+
+impl Default for Dop853Options {
+    fn default() -> Self {
+        Self {
+            rtol: 1e-10,
+            atol: None,
+            first_step: None,
+            max_step: None,
+        }
+    }
+}
+
+impl Dop853Options {
+    /// The defaults with relative tolerance `rtol`.
+    #[must_use]
+    pub fn with_rtol(rtol: f64) -> Self {
+        Self {
+            rtol,
+            ..Self::default()
+        }
+    }
+}
+
+/// Settings common to all methods.
+#[derive(Clone, Copy)]
+pub struct Options<'a> {
+    /// Initial time: the state given is at `t0`; every output time is `>= t0` (default 0).
+    pub t0: f64,
+    /// Whether to integrate and return the attitude (default `true`). When `false` only the
+    /// angular velocity is integrated (cheaper), unless the torque depends on the attitude, in
+    /// which case the attitude is integrated but not returned.
+    pub with_attitude: bool,
+    /// External torque in body axes (default none).
+    pub torque: Option<&'a dyn Torque>,
+    /// Largest number of steps (accepted and rejected), an error if exceeded (default `1e8`).
+    pub max_steps: u64,
+}
+
+impl Default for Options<'_> {
+    fn default() -> Self {
+        Self {
+            t0: 0.0,
+            with_attitude: true,
+            torque: None,
+            max_steps: 100_000_000,
+        }
+    }
+}
+
+/// The cost of an integration.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Steps taken (accepted steps for `Dop853`).
+    pub steps: u64,
+    /// Steps rejected by the error control (`Dop853` only).
+    pub rejected_steps: u64,
+    /// Evaluations of the vector field (for the splitting: of the torque only, the free
+    /// sub-flows being exact; for the midpoint rule: Newton iterations and torque evaluations).
+    pub rhs_evaluations: u64,
+}
+
+/// The states at the output times.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trajectory {
+    /// Angular velocity in body axes at each output time.
+    pub omega: Vec<Vector3<f64>>,
+    /// Body-to-space attitude at each output time (`None` unless `with_attitude`).
+    pub attitude: Option<Vec<UnitQuaternion<f64>>>,
+    /// What the integration cost.
+    pub stats: Stats,
+}
+
+/// Number of equal substeps covering `[t_prev, t]`, none longer than `dt` by more than the
+/// round-off of the times (at most 1e-12 relative): an interval that is a whole number of `dt`
+/// up to that round-off is not given an extra step.
+fn substeps(t_prev: f64, t: f64, dt: f64) -> f64 {
+    let interval = t - t_prev;
+    if interval <= 0.0 {
+        return 0.0;
+    }
+    let slack = (4.0 * f64::EPSILON * (1.0 + t.abs().max(t_prev.abs()) / interval)).min(1e-12);
+    ((interval / dt) * (1.0 - slack)).ceil().max(1.0)
+}
+
+fn check_times(times: &[f64], t0: f64) -> Result<()> {
+    finite("t0", t0)?;
+    let mut prev = t0;
+    for (k, &t) in times.iter().enumerate() {
+        finite(&format!("times[{k}]"), t)?;
+        if t < prev {
+            return Err(Error::InvalidArgument {
+                name: "times".into(),
+                reason: if k == 0 {
+                    format!("expected times[0] >= t0 = {t0}, got {t}.")
+                } else {
+                    format!(
+                        "expected non-decreasing times, got times[{}] = {prev} > times[{k}] = {t}.",
+                        k - 1
+                    )
+                },
+            });
+        }
+        prev = t;
+    }
+    Ok(())
+}
+
+fn check_method(method: &Method) -> Result<()> {
+    match method {
+        Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
+            positive("dt", *dt)?;
+        }
+        Method::Dop853(o) => {
+            positive("rtol", o.rtol)?;
+            if o.rtol < 1e-15 {
+                return Err(Error::InvalidArgument {
+                    name: "rtol".into(),
+                    reason: format!("expected rtol >= 1e-15 (double precision), got {}.", o.rtol),
+                });
+            }
+            if let Some(a) = o.atol {
+                positive("atol", a)?;
+            }
+            if let Some(h) = o.first_step {
+                positive("first_step", h)?;
+            }
+            if let Some(h) = o.max_step {
+                positive("max_step", h)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Collects the outputs, checking that they are finite.
+struct Collector {
+    omega: Vec<Vector3<f64>>,
+    attitude: Option<Vec<UnitQuaternion<f64>>>,
+}
+
+impl Collector {
+    fn new(n: usize, with_attitude: bool) -> Self {
+        Self {
+            omega: Vec::with_capacity(n),
+            attitude: with_attitude.then(|| Vec::with_capacity(n)),
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&Vector4<f64>>) -> Result<()> {
+        for i in 0..3 {
+            if !w[i].is_finite() {
+                return Err(Error::NonFinite {
+                    name: format!("omega[{i}] at t = {t} (the solution blew up)"),
+                    value: w[i],
+                });
+            }
+        }
+        self.omega.push(*w);
+        if let (Some(att), Some(q)) = (self.attitude.as_mut(), q) {
+            att.push(UnitQuaternion::new_unchecked(Quaternion::from(
+                q / q.norm(),
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Calls `f(end, output)` for each segment of `[t0, times[-1]]`, ending at every output time
+/// (`output = Some(k)`) and every break strictly between (`None`).
+fn segments(
+    t0: f64,
+    times: &[f64],
+    breaks: &[f64],
+    mut f: impl FnMut(f64, Option<usize>) -> Result<()>,
+) -> Result<()> {
+    let mut b = breaks.iter().copied().filter(|&x| x > t0).peekable();
+    for (k, &t) in times.iter().enumerate() {
+        while let Some(x) = b.next_if(|&x| x < t) {
+            f(x, None)?;
+        }
+        f(t, Some(k))?;
+    }
+    Ok(())
+}
+
+/// The sorted discontinuities of the torque (empty without torque).
+fn breaks_of(options: &Options) -> Vec<f64> {
+    let mut breaks = options
+        .torque
+        .map(|t| t.discontinuities())
+        .unwrap_or_default();
+    breaks.retain(|t| t.is_finite());
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup();
+    breaks
+}
+
+/// The fixed-step loop: `n = ceil(interval / dt)` equal substeps between successive output
+/// times (and torque discontinuities).
+fn fixed_loop<Y>(
+    options: &Options,
+    times: &[f64],
+    dt: f64,
+    y: &mut Y,
+    mut step: impl FnMut(f64, &mut Y, f64) -> Result<()>,
+    mut out: impl FnMut(usize, &Y) -> Result<()>,
+) -> Result<u64> {
+    let breaks = breaks_of(options);
+    let mut total = 0.0;
+    let mut prev = options.t0;
+    segments(options.t0, times, &breaks, |t, _| {
+        total += substeps(prev, t, dt);
+        prev = t;
+        Ok(())
+    })?;
+    if total > options.max_steps as f64 {
+        return Err(Error::InvalidArgument {
+            name: "dt".into(),
+            reason: format!(
+                "dt = {dt} needs {total} steps, more than max_steps = {}.",
+                options.max_steps
+            ),
+        });
+    }
+    let mut prev = options.t0;
+    segments(options.t0, times, &breaks, |t, k| {
+        let n = substeps(prev, t, dt);
+        if n > 0.0 {
+            let h = (t - prev) / n;
+            for j in 0..n as u64 {
+                step(prev + j as f64 * h, y, h)?;
+            }
+        }
+        prev = t;
+        match k {
+            Some(k) => out(k, y),
+            None => Ok(()),
+        }
+    })?;
+    Ok(total as u64)
+}
+
+fn run_splitting<const ATT: bool>(
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    dt: f64,
+    order: SplittingOrder,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let mut y = (body.angular_momentum(&state0.omega), state0.attitude.coords);
+    let mut evals = 0;
+    let inverse = *body.inverse();
+    let out = |k: usize, y: &(Vector3<f64>, Vector4<f64>)| {
+        col.push(times[k], &y.0.component_mul(&inverse), ATT.then_some(&y.1))
+    };
+    // Torque-free with attitude: L_space = R(q) m is constant; recomputing m = R(q)^T L_space
+    // after each step (exact in exact arithmetic) keeps the round-off of the axis rotations from
+    // accumulating into a drift of L_space (~2e-18 a step otherwise, a bias not a random walk).
+    let l_space = state0.attitude * y.0;
+    let steps = match options.torque {
+        None => fixed_loop(
+            options,
+            times,
+            dt,
+            &mut y,
+            |_, (m, q), h| {
+                free_flow::<ATT>(body, m, q, h, order);
+                if ATT {
+                    *q /= q.norm();
+                    *m = UnitQuaternion::new_unchecked(Quaternion::from(*q))
+                        .inverse_transform_vector(&l_space);
+                }
+                Ok(())
+            },
+            out,
+        )?,
+        Some(torque) => fixed_loop(
+            options,
+            times,
+            dt,
+            &mut y,
+            |t, (m, q), h| {
+                torqued_step::<dyn Torque, ATT>(body, torque, t, m, q, h, order, &mut evals)?;
+                if ATT {
+                    *q /= q.norm();
+                }
+                Ok(())
+            },
+            out,
+        )?,
+    };
+    Ok(Stats {
+        steps,
+        rejected_steps: 0,
+        rhs_evaluations: evals,
+    })
+}
+
+fn run_midpoint<const ATT: bool>(
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    dt: f64,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let mut y = (state0.omega, state0.attitude.coords);
+    let mut evals = 0;
+    let out =
+        |k: usize, y: &(Vector3<f64>, Vector4<f64>)| col.push(times[k], &y.0, ATT.then_some(&y.1));
+    let steps = fixed_loop(
+        options,
+        times,
+        dt,
+        &mut y,
+        |t, (w, q), h| {
+            let wm = match options.torque {
+                None => free_midpoint(body, w, h, &mut evals).map_err(|e| at_time(e, t))?,
+                Some(torque) => {
+                    torqued_midpoint::<dyn Torque, ATT>(body, torque, t, w, q, h, &mut evals)?
+                }
+            };
+            if ATT {
+                *q = cayley_update(q, &wm, h);
+            }
+            *w = wm * 2.0 - *w;
+            Ok(())
+        },
+        out,
+    )?;
+    Ok(Stats {
+        steps,
+        rejected_steps: 0,
+        rhs_evaluations: evals,
+    })
+}
+
+/// Adds the time to a Newton failure of the torque-free midpoint (which does not know it).
+fn at_time(e: Error, t: f64) -> Error {
+    match e {
+        Error::NoConvergence { method, reason } => Error::NoConvergence {
+            method,
+            reason: format!("{reason} (step from t = {t})."),
+        },
+        other => other,
+    }
+}
+
+fn run_rk4<S: System<N>, const N: usize>(
+    sys: &S,
+    y0: SVector<f64, N>,
+    times: &[f64],
+    options: &Options,
+    dt: f64,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let mut y = y0;
+    let steps = fixed_loop(
+        options,
+        times,
+        dt,
+        &mut y,
+        |t, y, h| {
+            *y = rk4(sys, t, y, h)?;
+            if N == 7 {
+                let n = (y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
+                for i in 3..N {
+                    y[i] /= n;
+                }
+            }
+            Ok(())
+        },
+        |k, y| output(col, times[k], y),
+    )?;
+    Ok(Stats {
+        steps,
+        rejected_steps: 0,
+        rhs_evaluations: 4 * steps,
+    })
+}
+
+fn run_rk4_free_attitude(
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    dt: f64,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let mut y = (state0.omega, state0.attitude.coords);
+    let steps = fixed_loop(
+        options,
+        times,
+        dt,
+        &mut y,
+        |_, (w, q), h| {
+            rk4_free_attitude(body, w, q, h);
+            *q /= q.norm();
+            Ok(())
+        },
+        |k, (w, q)| col.push(times[k], w, Some(q)),
+    )?;
+    Ok(Stats {
+        steps,
+        rejected_steps: 0,
+        rhs_evaluations: 4 * steps,
+    })
+}
+
+#[inline]
+fn output<const N: usize>(col: &mut Collector, t: f64, y: &SVector<f64, N>) -> Result<()> {
+    let w = Vector3::new(y[0], y[1], y[2]);
+    if N == 7 {
+        let q = Vector4::new(y[3], y[4], y[5], y[6]);
+        col.push(t, &w, Some(&q))
+    } else {
+        col.push(t, &w, None)
+    }
+}
+
+fn run_dop853<S: System<N>, const N: usize>(
+    sys: &S,
+    y0: SVector<f64, N>,
+    times: &[f64],
+    options: &Options,
+    o: &Dop853Options,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let atol_w = match o.atol {
+        Some(atol) => atol,
+        None => {
+            // rtol times the scale of w: |w0|, or for a body at rest the change
+            // |w'(t0)| (t_end - t0) that the torque would make.
+            let w0 = Vector3::new(y0[0], y0[1], y0[2]).norm();
+            if w0 > 0.0 {
+                o.rtol * w0
+            } else {
+                let f0 = sys.rhs(options.t0, &y0)?;
+                let span = times.last().map_or(0.0, |t| t - options.t0);
+                o.rtol * Vector3::new(f0[0], f0[1], f0[2]).norm() * span
+            }
+        }
+    };
+    let mut atol = SVector::<f64, N>::repeat(o.rtol);
+    for i in 0..3 {
+        atol[i] = atol_w;
+    }
+    let mut settings = Settings {
+        tol: Tolerance {
+            atol,
+            rtol: SVector::<f64, N>::repeat(o.rtol),
+        },
+        first_step: o.first_step,
+        max_step: o.max_step,
+        max_steps: options.max_steps,
+    };
+    let mut stats = Stats::default();
+    let renormalize = |y: &mut SVector<f64, N>, f: &mut SVector<f64, N>| {
+        if N == 7 {
+            let n = (y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
+            for i in 3..N {
+                y[i] /= n;
+                f[i] /= n;
+            }
+        }
+    };
+    // One solve per segment between torque discontinuities (restarting the method there).
+    let breaks = breaks_of(options);
+    let t_last = times.last().copied().unwrap_or(options.t0);
+    let mut ends: Vec<f64> = breaks
+        .into_iter()
+        .filter(|&b| b > options.t0 && b < t_last)
+        .collect();
+    ends.push(t_last);
+    let (mut t, mut y, mut first) = (options.t0, y0, 0);
+    for end in ends {
+        let last = first + times[first..].partition_point(|&x| x <= end);
+        let (y_end, h) = dop853::solve(
+            sys,
+            t,
+            &y,
+            end,
+            &times[first..last],
+            &settings,
+            renormalize,
+            |k, y| output(col, times[first + k], y),
+            &mut stats,
+        )?;
+        settings.first_step = h;
+        (t, y, first) = (end, y_end, last);
+    }
+    Ok(stats)
+}
+
+/// Integrates Euler's equations (with the attitude if `options.with_attitude`) from
+/// `state0` at `options.t0`, returning the states at each of `times`.
+///
+/// `moments`: principal moments (any order, finite, `> 0`). `times`: output times, finite,
+/// non-decreasing and `>= t0` (an output time equal to `t0` returns the initial state). The
+/// fixed-step methods take `n = ceil((t_k - t_{k-1}) / dt)` equal substeps between successive
+/// output times, so every output time is hit exactly and no step exceeds `dt`; `Dop853` steps
+/// freely and interpolates (7th-order dense output). Quaternions are returned normalised.
+///
+/// Errors: invalid arguments (non-finite state, non-positive moment, `dt`, `rtol`, `atol`,
+/// decreasing times), too many steps, a failed Newton iteration, a torque error, or a solution
+/// that is no longer finite.
+pub fn integrate(
+    method: &Method,
+    moments: &Vector3<f64>,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+) -> Result<Trajectory> {
+    let body = Moments::new(*moments)?;
+    integrate_body(method, &body, state0, times, options)
+}
+
+/// [`integrate`] with validated moments.
+pub fn integrate_body(
+    method: &Method,
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+) -> Result<Trajectory> {
+    check_method(method)?;
+    state0.check_finite("state0")?;
+    check_times(times, options.t0)?;
+    if options.max_steps == 0 {
+        return Err(Error::NonPositive {
+            name: "max_steps".into(),
+            value: 0.0,
+        });
+    }
+    let norm = state0.attitude.coords.norm();
+    if norm == 0.0 {
+        return Err(Error::InvalidArgument {
+            name: "state0.attitude".into(),
+            reason: "expected a non-zero quaternion, got 0.".into(),
+        });
+    }
+    // Renormalised, in case it was built unchecked.
+    let state0 = &State {
+        omega: state0.omega,
+        attitude: UnitQuaternion::new_unchecked(Quaternion::from(state0.attitude.coords / norm)),
+    };
+    let att = options.with_attitude || options.torque.is_some_and(|t| t.depends_on_attitude());
+    let mut col = Collector::new(times.len(), options.with_attitude);
+    let y3 = state0.omega;
+    let y7 = super::system::pack(state0);
+    let stats = match (*method, att) {
+        (Method::Splitting { dt, order }, true) => {
+            run_splitting::<true>(body, state0, times, options, dt, order, &mut col)
+        }
+        (Method::Splitting { dt, order }, false) => {
+            run_splitting::<false>(body, state0, times, options, dt, order, &mut col)
+        }
+        (Method::Midpoint { dt }, true) => {
+            run_midpoint::<true>(body, state0, times, options, dt, &mut col)
+        }
+        (Method::Midpoint { dt }, false) => {
+            run_midpoint::<false>(body, state0, times, options, dt, &mut col)
+        }
+        (Method::Rk4 { dt }, a) => match (options.torque, a) {
+            (None, false) => run_rk4(&Free { body }, y3, times, options, dt, &mut col),
+            (None, true) => run_rk4_free_attitude(body, state0, times, options, dt, &mut col),
+            (Some(torque), false) => {
+                run_rk4(&Torqued { body, torque }, y3, times, options, dt, &mut col)
+            }
+            (Some(torque), true) => {
+                run_rk4(&Torqued { body, torque }, y7, times, options, dt, &mut col)
+            }
+        },
+        (Method::Dop853(o), a) => match (options.torque, a) {
+            (None, false) => run_dop853(&Free { body }, y3, times, options, &o, &mut col),
+            (None, true) => run_dop853(&Free { body }, y7, times, options, &o, &mut col),
+            (Some(torque), false) => {
+                run_dop853(&Torqued { body, torque }, y3, times, options, &o, &mut col)
+            }
+            (Some(torque), true) => {
+                run_dop853(&Torqued { body, torque }, y7, times, options, &o, &mut col)
+            }
+        },
+    }?;
+    Ok(Trajectory {
+        omega: col.omega,
+        attitude: col.attitude,
+        stats,
+    })
+}
+
+/// Integrates many bodies with the same method, output times and options, in parallel (rayon).
+///
+/// Each body's trajectory is bitwise identical to [`integrate`] on it alone, whatever the
+/// number of threads. On failure, the error of the first failing body (by index) is returned,
+/// its argument name suffixed with the body index.
+pub fn integrate_batch(
+    method: &Method,
+    moments: &[Vector3<f64>],
+    states0: &[State],
+    times: &[f64],
+    options: &Options,
+) -> Result<Vec<Trajectory>> {
+    if moments.len() != states0.len() {
+        return Err(Error::Shape {
+            name: "states0".into(),
+            expected: format!("({},)", moments.len()),
+            got: format!("({},)", states0.len()),
+        });
+    }
+    let results: Vec<Result<Trajectory>> = moments
+        .par_iter()
+        .zip(states0.par_iter())
+        .map(|(m, s)| integrate(method, m, s, times, options))
+        .collect();
+    results
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| r.map_err(|e| in_body(e, i)))
+        .collect()
+}
+
+/// Suffixes the argument name of `e` with the body index.
+fn in_body(e: Error, i: usize) -> Error {
+    let tag = |name: String| format!("{name} (body {i})");
+    match e {
+        Error::NonFinite { name, value } => Error::NonFinite {
+            name: tag(name),
+            value,
+        },
+        Error::NonPositive { name, value } => Error::NonPositive {
+            name: tag(name),
+            value,
+        },
+        Error::InvalidArgument { name, reason } => Error::InvalidArgument {
+            name: tag(name),
+            reason,
+        },
+        Error::NoConvergence { method, reason } => Error::NoConvergence {
+            method: tag(method),
+            reason,
+        },
+        other => other,
+    }
+}

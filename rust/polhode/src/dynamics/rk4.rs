@@ -1,0 +1,95 @@
+//! The classic fourth-order Runge-Kutta method on `(w, q)` (Hairer, Norsett & Wanner,
+//! *Solving ODEs I*, II.1), the quaternion renormalised after each step.
+//!
+//! Explicit, order 4; neither `T` nor `|L|` is conserved (both drift by `O(h^4)` per unit time).
+
+use nalgebra::{SVector, Vector3, Vector4};
+
+use super::state::{quaternion_rate, Moments, State};
+use super::system::{normalize7, pack, unpack, Free, System, Torqued};
+use super::torque::Torque;
+use crate::Result;
+
+/// One RK4 step of `y' = f(t, y)`.
+#[inline]
+pub(crate) fn rk4<S: System<N>, const N: usize>(
+    sys: &S,
+    t: f64,
+    y: &SVector<f64, N>,
+    h: f64,
+) -> Result<SVector<f64, N>> {
+    let half = 0.5 * h;
+    let k1 = sys.rhs(t, y)?;
+    let k2 = sys.rhs(t + half, &(y + k1 * half))?;
+    let k3 = sys.rhs(t + half, &(y + k2 * half))?;
+    let k4 = sys.rhs(t + h, &(y + k3 * h))?;
+    Ok(y + (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0))
+}
+
+/// One torque-free RK4 step of `(w, q)` on raw quaternion coordinates (not renormalised).
+#[inline]
+pub(crate) fn rk4_free_attitude(
+    body: &Moments,
+    w: &mut Vector3<f64>,
+    q: &mut Vector4<f64>,
+    h: f64,
+) {
+    let half = 0.5 * h;
+    let (w0, q0) = (*w, *q);
+    let (a1, b1) = (body.euler_rhs(&w0), quaternion_rate(&q0, &w0));
+    let (w2, q2) = (w0 + a1 * half, q0 + b1 * half);
+    let (a2, b2) = (body.euler_rhs(&w2), quaternion_rate(&q2, &w2));
+    let (w3, q3) = (w0 + a2 * half, q0 + b2 * half);
+    let (a3, b3) = (body.euler_rhs(&w3), quaternion_rate(&q3, &w3));
+    let (w4, q4) = (w0 + a3 * h, q0 + b3 * h);
+    let (a4, b4) = (body.euler_rhs(&w4), quaternion_rate(&q4, &w4));
+    let sixth = h / 6.0;
+    *w = w0 + (a1 + (a2 + a3) * 2.0 + a4) * sixth;
+    *q = q0 + (b1 + (b2 + b3) * 2.0 + b4) * sixth;
+}
+
+/// One torque-free RK4 step of the angular velocity alone.
+#[must_use]
+pub fn rk4_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f64> {
+    match rk4(&Free { body }, 0.0, omega, h) {
+        Ok(w) => w,
+        Err(_) => unreachable!("the torque-free field cannot fail"),
+    }
+}
+
+/// One torque-free RK4 step of the angular velocity and attitude (quaternion renormalised).
+#[must_use]
+pub fn rk4_step(body: &Moments, state: &State, h: f64) -> State {
+    let mut y = match rk4(&Free { body }, 0.0, &pack(state), h) {
+        Ok(y) => y,
+        Err(_) => unreachable!("the torque-free field cannot fail"),
+    };
+    normalize7(&mut y);
+    unpack(&y)
+}
+
+/// One RK4 step of the angular velocity alone under `torque` from time `t`. The torque is
+/// evaluated with the identity attitude: an attitude-dependent torque is an error.
+pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
+    body: &Moments,
+    torque: &T,
+    t: f64,
+    omega: &Vector3<f64>,
+    h: f64,
+) -> Result<Vector3<f64>> {
+    super::torque::require_attitude_free(torque)?;
+    rk4(&Torqued { body, torque }, t, omega, h)
+}
+
+/// One RK4 step of the angular velocity and attitude under `torque` from time `t`.
+pub fn rk4_step_torqued<T: Torque + ?Sized>(
+    body: &Moments,
+    torque: &T,
+    t: f64,
+    state: &State,
+    h: f64,
+) -> Result<State> {
+    let mut y = rk4(&Torqued { body, torque }, t, &pack(state), h)?;
+    normalize7(&mut y);
+    Ok(unpack(&y))
+}

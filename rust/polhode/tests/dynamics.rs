@@ -1,0 +1,1303 @@
+//! Integration tests of `polhode::dynamics` against closed forms and high-precision references.
+//!
+//! The long conservation runs take 1e6 steps in release mode (`cargo test --release`, as CI
+//! runs) and 2e4 steps in debug mode, where they would otherwise take minutes.
+
+// Reference values are quoted with all the digits mpmath printed.
+#![allow(clippy::excessive_precision)]
+
+use std::f64::consts::PI;
+
+use nalgebra::{UnitQuaternion, Vector3};
+use polhode::dynamics::*;
+use polhode::Error;
+
+/// Steps of the long conservation runs.
+const LONG: usize = if cfg!(debug_assertions) {
+    20_000
+} else {
+    1_000_000
+};
+
+fn run(
+    method: Method,
+    moments: Vector3<f64>,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+) -> Trajectory {
+    integrate(&method, &moments, state0, times, options).unwrap()
+}
+
+fn fixed_methods(dt: f64) -> Vec<(&'static str, Method)> {
+    vec![
+        (
+            "splitting2",
+            Method::Splitting {
+                dt,
+                order: SplittingOrder::Two,
+            },
+        ),
+        (
+            "splitting4",
+            Method::Splitting {
+                dt,
+                order: SplittingOrder::Four,
+            },
+        ),
+        (
+            "splitting6",
+            Method::Splitting {
+                dt,
+                order: SplittingOrder::Six,
+            },
+        ),
+        ("midpoint", Method::Midpoint { dt }),
+        ("rk4", Method::Rk4 { dt }),
+    ]
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a / b - 1.0).abs()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Krogh's rigid body: y' = (y2 y3, -y1 y3, -0.51 y1 y2), y(0) = (0, 1, 1),
+// y = (sn, cn, dn)(t|0.51).
+//
+// Euler's equations w_i' = c_i w_j w_k with w_i = s_i y_i give c1 s2 s3 / s1 = 1,
+// c2 s3 s1 / s2 = -1, c3 s1 s2 / s3 = -0.51, i.e. s3^2 = -1/(c1 c2), s2^2 = -0.51/(c1 c3),
+// s1^2 = 0.51/(c2 c3), which needs I2 > I1 > I3. With I = (1, 2, 1/2): c = (3/2, -1/4, -2),
+// s = (sqrt(1.02), sqrt(0.17), sqrt(8/3)).
+// ---------------------------------------------------------------------------------------------
+
+const KROGH_MOMENTS: [f64; 3] = [1.0, 2.0, 0.5];
+
+fn krogh_scale() -> Vector3<f64> {
+    Vector3::new(1.02f64.sqrt(), 0.17f64.sqrt(), (8.0f64 / 3.0).sqrt())
+}
+
+/// (t, sn, cn, dn) at m = 0.51, from
+/// ```text
+/// python3 -c "import mpmath as mp; mp.mp.dps = 30; [print(t, [mp.nstr(mp.ellipfun(k, t,
+///   m=mp.mpf('0.51')), 20) for k in ('sn', 'cn', 'dn')]) for t in map(mp.mpf, ['0.5', '1',
+///   '2', '5', '10', '20'])]"
+/// ```
+const KROGH_REFERENCE: [(f64, [f64; 3]); 6] = [
+    (
+        0.5,
+        [
+            0.47057739031516134827,
+            0.88235872507964258839,
+            0.9418407662972164363,
+        ],
+    ),
+    (
+        1.0,
+        [
+            0.80220075305636086038,
+            0.59705439601078856953,
+            0.81963511114145289907,
+        ],
+    ),
+    (
+        2.0,
+        [
+            0.99536621525617694157,
+            -0.096156630174908009447,
+            0.70336015649065803126,
+        ],
+    ),
+    (
+        5.0,
+        [
+            -0.91172904417333735016,
+            -0.41079210071613191972,
+            0.75898786321356553174,
+        ],
+    ),
+    (
+        10.0,
+        [
+            0.87789882041975277037,
+            -0.47884617687270583056,
+            0.77906339097910344877,
+        ],
+    ),
+    (
+        20.0,
+        [
+            -0.93965707987292039619,
+            -0.34211777540007490653,
+            0.74141265961999530078,
+        ],
+    ),
+];
+
+fn krogh_state0() -> State {
+    let s = krogh_scale();
+    State::from_omega(Vector3::new(0.0, s[1], s[2]))
+}
+
+fn krogh_exact(k: usize) -> Vector3<f64> {
+    Vector3::from(KROGH_REFERENCE[k].1).component_mul(&krogh_scale())
+}
+
+fn krogh_times() -> Vec<f64> {
+    KROGH_REFERENCE.iter().map(|r| r.0).collect()
+}
+
+#[test]
+fn krogh_body_matches_jacobi_elliptic_functions() {
+    let moments = Vector3::from(KROGH_MOMENTS);
+    let times = krogh_times();
+    let scale = krogh_state0().omega.norm();
+    // (method, largest error relative to |w| over t in [0, 20]) at dt = 1e-2.
+    let bounds = [3e-5, 2e-8, 3e-12, 6e-5, 2e-9];
+    for ((name, method), bound) in fixed_methods(1e-2).into_iter().zip(bounds) {
+        for with_attitude in [false, true] {
+            let options = Options {
+                with_attitude,
+                ..Options::default()
+            };
+            let sol = run(method, moments, &krogh_state0(), &times, &options);
+            assert_eq!(sol.attitude.is_some(), with_attitude);
+            for (k, t) in times.iter().enumerate() {
+                let err = (sol.omega[k] - krogh_exact(k)).norm() / scale;
+                assert!(
+                    err < bound,
+                    "{name} attitude={with_attitude} t={t}: {err:e}"
+                );
+            }
+        }
+    }
+    for with_attitude in [false, true] {
+        let options = Options {
+            with_attitude,
+            ..Options::default()
+        };
+        let sol = run(
+            Method::Dop853(Dop853Options::with_rtol(1e-13)),
+            moments,
+            &krogh_state0(),
+            &times,
+            &options,
+        );
+        for (k, t) in times.iter().enumerate() {
+            let err = (sol.omega[k] - krogh_exact(k)).norm() / scale;
+            assert!(err < 2e-12, "dop853 t={t}: {err:e}");
+        }
+    }
+}
+
+/// log2 of the error ratio when halving the step.
+fn observed_order(err: impl Fn(f64) -> f64, dt: f64) -> f64 {
+    (err(dt) / err(dt / 2.0)).log2()
+}
+
+#[test]
+fn orders_of_convergence_on_krogh_body() {
+    let moments = Vector3::from(KROGH_MOMENTS);
+    let exact = krogh_exact(3); // t = 5
+                                // (method, order, dt with the error well above round-off)
+    let cases = [
+        (SplittingOrder::Two, 2.0, 0.05),
+        (SplittingOrder::Four, 4.0, 0.05),
+        (SplittingOrder::Six, 6.0, 0.1),
+    ];
+    for (order, p, dt) in cases {
+        for with_attitude in [false, true] {
+            let options = Options {
+                with_attitude,
+                ..Options::default()
+            };
+            let err = |dt: f64| {
+                let sol = run(
+                    Method::Splitting { dt, order },
+                    moments,
+                    &krogh_state0(),
+                    &[5.0],
+                    &options,
+                );
+                (sol.omega[0] - exact).norm()
+            };
+            let q = observed_order(err, dt);
+            assert!(
+                (q - p).abs() < 0.1,
+                "splitting {order:?}: observed order {q}"
+            );
+        }
+    }
+    for (name, method, p, dt) in [("midpoint", 0, 2.0, 0.05), ("rk4", 1, 4.0, 0.05)] {
+        for with_attitude in [false, true] {
+            let options = Options {
+                with_attitude,
+                ..Options::default()
+            };
+            let err = |dt: f64| {
+                let m = if method == 0 {
+                    Method::Midpoint { dt }
+                } else {
+                    Method::Rk4 { dt }
+                };
+                (run(m, moments, &krogh_state0(), &[5.0], &options).omega[0] - exact).norm()
+            };
+            let q = observed_order(err, dt);
+            assert!((q - p).abs() < 0.1, "{name}: observed order {q}");
+        }
+    }
+    // The 8th-order Dormand-Prince step, taken with a fixed step.
+    let body = Moments::new(moments).unwrap();
+    let err = |h: f64| {
+        let mut w = krogh_state0().omega;
+        for _ in 0..(5.0 / h).round() as usize {
+            w = dop853_step_omega(&body, &w, h);
+        }
+        (w - exact).norm()
+    };
+    let q = observed_order(err, 0.5);
+    assert!((q - 8.0).abs() < 0.5, "dop853: observed order {q}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The free symmetric top (I1 = I2) in closed form, attitude included:
+// m3 is constant and R(t) = exp(t |L|/I1 [l]) R0 exp(t (1/I3 - 1/I1) m3 [e3]), l = L/|L| in
+// space (Landau-Lifshitz par. 33). Check: R^T R' = [(m/I1) + (1/I3 - 1/I1) m3 e3] = [w].
+// ---------------------------------------------------------------------------------------------
+
+fn symmetric_top_exact(moments: &Vector3<f64>, s0: &State, t: f64) -> State {
+    let m = moments.component_mul(&s0.omega);
+    let l = s0.attitude * m;
+    let spin = (1.0 / moments[2] - 1.0 / moments[0]) * m[2];
+    let space = UnitQuaternion::from_scaled_axis(l * (t / moments[0]));
+    let body = UnitQuaternion::from_scaled_axis(Vector3::z() * (spin * t));
+    let attitude = space * s0.attitude * body;
+    State::new(moments.component_div(&(attitude.inverse() * l)), attitude)
+}
+
+fn symmetric_top() -> (Vector3<f64>, State) {
+    let moments = Vector3::new(1.0, 1.0, 0.4);
+    let attitude = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7);
+    (moments, State::new(Vector3::new(0.8, -0.3, 2.0), attitude))
+}
+
+#[test]
+fn symmetric_top_attitude_matches_closed_form_and_converges_at_the_right_order() {
+    let (moments, s0) = symmetric_top();
+    let t_end = 6.0;
+    let exact = symmetric_top_exact(&moments, &s0, t_end);
+    let mut methods = fixed_methods(0.0);
+    methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-13))));
+    let orders = [2.0, 4.0, 6.0, 2.0, 4.0];
+    for (k, (name, method)) in methods.into_iter().enumerate() {
+        let err = |dt: f64| {
+            let m = match method {
+                Method::Splitting { order, .. } => Method::Splitting { dt, order },
+                Method::Midpoint { .. } => Method::Midpoint { dt },
+                Method::Rk4 { .. } => Method::Rk4 { dt },
+                other => other,
+            };
+            let sol = run(m, moments, &s0, &[t_end], &Options::default());
+            sol.attitude.unwrap()[0].angle_to(&exact.attitude)
+        };
+        if k < orders.len() {
+            let dt = if k == 2 { 0.1 } else { 0.02 };
+            let q = observed_order(err, dt);
+            assert!(
+                (q - orders[k]).abs() < 0.15,
+                "{name}: observed attitude order {q}"
+            );
+        } else {
+            let e = err(0.0);
+            assert!(e < 1e-11, "{name}: attitude error {e:e}");
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Conservation over long runs.
+// ---------------------------------------------------------------------------------------------
+
+/// `(|L|, L_space, T)` relative errors along a run of `n` steps of `step`.
+fn drift(
+    moments: Vector3<f64>,
+    s0: State,
+    n: usize,
+    mut step: impl FnMut(&State) -> State,
+) -> (f64, f64, f64, f64, f64) {
+    let l0 = s0.attitude * moments.component_mul(&s0.omega);
+    let t0 = 0.5 * s0.omega.dot(&moments.component_mul(&s0.omega));
+    let mut s = s0;
+    let (mut dl, mut dls, mut dt_first, mut dt_last) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let mut dt_max = 0.0f64;
+    for k in 0..n {
+        s = step(&s);
+        if k % 100 == 99 || k + 1 == n {
+            let m = moments.component_mul(&s.omega);
+            dl = dl.max(rel(m.norm(), l0.norm()));
+            dls = dls.max((s.attitude * m - l0).norm() / l0.norm());
+            let e = rel(0.5 * s.omega.dot(&m), t0);
+            dt_max = dt_max.max(e);
+            if k < n / 2 {
+                dt_first = dt_first.max(e);
+            } else {
+                dt_last = dt_last.max(e);
+            }
+        }
+    }
+    (dl, dls, dt_max, dt_first, dt_last)
+}
+
+#[test]
+fn splitting_conserves_angular_momentum_over_long_runs() {
+    // A flat body (I1 = I2 + I3) and a generic one, starting near the largest axis.
+    for moments in [Vector3::new(1.0, 0.75, 0.25), Vector3::new(1.0, 0.6, 0.3)] {
+        let s0 = State::new(
+            Vector3::new(1.0, 0.1, 0.2),
+            UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3),
+        );
+        let body = Moments::new(moments).unwrap();
+        let l0 = s0.angular_momentum_space(&body);
+        let t0 = body.kinetic_energy(&s0.omega);
+        for order in [
+            SplittingOrder::Two,
+            SplittingOrder::Four,
+            SplittingOrder::Six,
+        ] {
+            // 1e6 Strang steps; as many stages for the compositions (3 and 7 stages a step).
+            let n = LONG / [1, 3, 7][order.order() as usize / 2 - 1];
+            // Through the driver, 1000 outputs.
+            let (dt, per_output) = (0.01, n / 1000);
+            let times: Vec<f64> = (1..=1000).map(|k| (k * per_output) as f64 * dt).collect();
+            let sol = run(
+                Method::Splitting { dt, order },
+                moments,
+                &s0,
+                &times,
+                &Options::default(),
+            );
+            assert_eq!(sol.stats.steps, 1000 * per_output as u64);
+            let att = sol.attitude.unwrap();
+            let (mut dl, mut dls, mut de_first, mut de_last) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            for (k, (w, q)) in sol.omega.iter().zip(&att).enumerate() {
+                let s = State::new(*w, *q);
+                dl = dl.max(rel(body.angular_momentum(w).norm(), l0.norm()));
+                dls = dls.max((s.angular_momentum_space(&body) - l0).norm() / l0.norm());
+                let de = rel(body.kinetic_energy(w), t0);
+                if k < 500 {
+                    de_first = de_first.max(de);
+                } else {
+                    de_last = de_last.max(de);
+                }
+            }
+            assert!(
+                dl < 1e-12 && dls < 1e-12,
+                "{moments:?} {order:?}: |L| {dl:e}, L_space {dls:e}"
+            );
+            // Energy error bounded, without secular growth.
+            assert!(
+                de_first < 1e-5,
+                "{moments:?} {order:?}: energy {de_first:e}"
+            );
+            assert!(
+                de_last <= 2.0 * de_first + 1e-13,
+                "{order:?}: energy drifts: {de_first:e} then {de_last:e}"
+            );
+            // The single-step function, angular velocity only: |L| to round-off.
+            let mut w = s0.omega;
+            for _ in 0..n {
+                w = splitting_step_omega(&body, &w, dt, order);
+            }
+            let e = rel(body.angular_momentum(&w).norm(), l0.norm());
+            assert!(e < 1e-12, "{order:?}: |L| {e:e} after {n} steps");
+        }
+    }
+}
+
+#[test]
+fn midpoint_conserves_energy_and_angular_momentum_over_long_runs() {
+    let moments = Vector3::new(1.0, 0.75, 0.25);
+    let s0 = State::new(Vector3::new(1.0, 0.1, 0.2), UnitQuaternion::identity());
+    let body = Moments::new(moments).unwrap();
+    let (dl, _dls, dt_max, _, _) = drift(moments, s0, LONG, |s| {
+        midpoint_step(&body, s, 0.01).unwrap()
+    });
+    assert!(dl < 1e-12 && dt_max < 1e-12, "|L| {dl:e}, T {dt_max:e}");
+    // The same through the driver, angular velocity only.
+    let times: Vec<f64> = (1..=10).map(|k| k as f64 * LONG as f64 * 1e-3).collect();
+    let sol = run(
+        Method::Midpoint { dt: 0.01 },
+        moments,
+        &s0,
+        &times,
+        &Options {
+            with_attitude: false,
+            ..Options::default()
+        },
+    );
+    assert_eq!(sol.stats.steps, LONG as u64);
+    let t0 = body.kinetic_energy(&s0.omega);
+    let l0 = body.angular_momentum(&s0.omega).norm();
+    for w in &sol.omega {
+        assert!(rel(body.kinetic_energy(w), t0) < 1e-12);
+        assert!(rel(body.angular_momentum(w).norm(), l0) < 1e-12);
+    }
+}
+
+#[test]
+fn thin_rod_does_not_blow_up() {
+    let moments = Vector3::new(6.58e-6, 1.7231e-4, 1.7243e-4);
+    let s0 = State::new(Vector3::new(20.0, 1.0, -0.5), UnitQuaternion::identity());
+    let body = Moments::new(moments).unwrap();
+    let (t0, l0) = (
+        body.kinetic_energy(&s0.omega),
+        s0.angular_momentum_space(&body),
+    );
+    let times = [10.0];
+    let mut methods = fixed_methods(1e-3);
+    methods.push(("dop853", Method::Dop853(Dop853Options::default())));
+    // Relative errors of T and L_space (the midpoint rule conserves |L| but not its direction).
+    let bounds = [
+        (1e-8, 1e-14),
+        (1e-11, 1e-14),
+        (1e-12, 1e-14),
+        (1e-13, 1e-3),
+        (1e-9, 1e-7),
+        (1e-8, 1e-7),
+    ];
+    for ((name, method), (bound_t, bound_l)) in methods.into_iter().zip(bounds) {
+        let sol = run(method, moments, &s0, &times, &Options::default());
+        let s = State::new(sol.omega[0], sol.attitude.unwrap()[0]);
+        let l = s.angular_momentum_space(&body);
+        let (e_t, e_l) = (
+            rel(body.kinetic_energy(&s.omega), t0),
+            (l - l0).norm() / l0.norm(),
+        );
+        let e_norm = rel(l.norm(), l0.norm());
+        assert!(
+            e_t < bound_t && e_l < bound_l && e_norm < bound_l.max(1e-13),
+            "{name}: T {e_t:e}, L {e_l:e}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// DOP853 near the separatrix: I = (3, 5, 9), L0 = (0, 2, 0.01).
+// Reference: mpmath.odefun (Taylor series) at 30 digits:
+// `import mpmath as mp; mp.mp.dps = 30; I = [3, 5, 9]; w0 = [0, mp.mpf(2)/5, mp.mpf('0.01')/9];
+//  c = [mp.mpf(I[1]-I[2])/I[0], mp.mpf(I[2]-I[0])/I[1], mp.mpf(I[0]-I[1])/I[2]];
+//  f = mp.odefun(lambda t, w: [c[0]*w[1]*w[2], c[1]*w[2]*w[0], c[2]*w[0]*w[1]], 0, w0);
+//  [print(t, [mp.nstr(x, 22) for x in f(t)]) for t in [10, 25, 50, 75, 100]]`
+// ---------------------------------------------------------------------------------------------
+
+const SEPARATRIX_REFERENCE: [(f64, [f64; 3]); 5] = [
+    (
+        10.0,
+        [
+            -0.01184969858355836984427,
+            0.399842001519513871702,
+            0.004963580091167272313746,
+        ],
+    ),
+    (
+        25.0,
+        [
+            -0.2761903495169538815251,
+            0.3022366651323637264896,
+            0.112759712496459002061,
+        ],
+    ),
+    (
+        50.0,
+        [
+            -0.009583707551017957804982,
+            -0.3998966582688818934411,
+            0.004067244313431516121542,
+        ],
+    ),
+    (
+        75.0,
+        [
+            0.0436459520722273284848,
+            -0.3978511377147713416772,
+            0.01785299479871921673745,
+        ],
+    ),
+    (
+        100.0,
+        [
+            0.06969808760992535583711,
+            0.3944970962189294146172,
+            0.02847581085731138522721,
+        ],
+    ),
+];
+
+#[test]
+fn dop853_near_the_separatrix_matches_high_precision_reference() {
+    let moments = Vector3::new(3.0, 5.0, 9.0);
+    let s0 = State::from_omega(Vector3::new(0.0, 2.0, 0.01).component_div(&moments));
+    let times: Vec<f64> = SEPARATRIX_REFERENCE.iter().map(|r| r.0).collect();
+    for with_attitude in [false, true] {
+        let options = Options {
+            with_attitude,
+            ..Options::default()
+        };
+        let sol = run(
+            Method::Dop853(Dop853Options::with_rtol(1e-12)),
+            moments,
+            &s0,
+            &times,
+            &options,
+        );
+        for (k, (t, w)) in SEPARATRIX_REFERENCE.iter().enumerate() {
+            let err = (sol.omega[k] - Vector3::from(*w)).norm();
+            assert!(
+                err < 1e-10,
+                "attitude={with_attitude} t={t}: {err:e} ({:?})",
+                sol.stats
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Torques.
+// ---------------------------------------------------------------------------------------------
+
+/// The heavy symmetric top: E = T + V, L . g_hat (space) and L3 (body) are constant.
+#[test]
+fn heavy_symmetric_top_conserves_its_invariants() {
+    let moments = Vector3::new(1.0, 1.0, 0.5); // about the pivot
+    let gravity = Vector3::new(0.0, 0.0, -9.81);
+    let top = PivotGravity::new(Vector3::new(0.0, 0.0, 0.1), 1.0, gravity).unwrap();
+    let s0 = State::new(
+        Vector3::new(0.5, 0.0, 20.0),
+        UnitQuaternion::from_euler_angles(0.5, 0.0, 0.0),
+    );
+    let body = Moments::new(moments).unwrap();
+    let energy = |s: &State| body.kinetic_energy(&s.omega) + top.potential_energy(&s.attitude);
+    let lz = |s: &State| s.angular_momentum_space(&body).dot(&gravity.normalize());
+    let l3 = |s: &State| moments[2] * s.omega[2];
+    let (e0, lz0, l30) = (energy(&s0), lz(&s0), l3(&s0));
+    let l_scale = body.angular_momentum(&s0.omega).norm();
+    let times: Vec<f64> = (1..=20).map(|k| k as f64 * 0.5).collect();
+    let options = Options {
+        torque: Some(&top),
+        ..Options::default()
+    };
+    let mut methods = fixed_methods(1e-3);
+    methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-12))));
+    // Bounds (relative): energy, L_z, L_3. The splitting's kicks are torques normal to g in
+    // space and its free flows keep L_space: L_z to round-off. Every method keeps w3 exactly
+    // (w3' = 0 identically) but the splitting, whose axis rotations about e1, e2 move m3.
+    let bounds = [
+        [1e-7, 1e-13, 1e-7],
+        [5e-12, 1e-13, 5e-12],
+        [2e-13, 1e-13, 1e-13],
+        [3e-8, 3e-6, 1e-15],
+        [1e-12, 5e-11, 1e-15],
+        [5e-13, 3e-11, 1e-15],
+    ];
+    for ((name, method), b) in methods.into_iter().zip(bounds) {
+        let sol = run(method, moments, &s0, &times, &options);
+        let att = sol.attitude.unwrap();
+        let mut worst = [0.0f64; 3];
+        for (w, q) in sol.omega.iter().zip(&att) {
+            let s = State::new(*w, *q);
+            worst[0] = worst[0].max((energy(&s) - e0).abs() / e0.abs());
+            worst[1] = worst[1].max((lz(&s) - lz0).abs() / l_scale);
+            worst[2] = worst[2].max((l3(&s) - l30).abs() / l_scale);
+        }
+        assert!(
+            worst.iter().zip(&b).all(|(w, b)| w < b),
+            "{name}: E, Lz, L3 {worst:?}"
+        );
+    }
+}
+
+/// I = (0.5, 2, 3), w0 = (1, 0, 0.9), torque 0.25 sin^2 t about body axis 3 on [3 pi, 4 pi].
+/// Reference: mpmath.odefun at 30 digits, piecewise over [0, 3 pi], [3 pi, 4 pi], [4 pi, 20]
+/// (the torque is C^1 at the switches):
+/// `c = [(I2-I3)/I1, (I3-I1)/I2, (I1-I2)/I3]; free = lambda t, w: [c[0]*w[1]*w[2], ...];
+///  forced adds 0.25 sin(t)^2 / I3 to w3'; f1 = mp.odefun(free, 0, w0); f2 = mp.odefun(forced,
+///  3*mp.pi, f1(3*mp.pi)); f3 = mp.odefun(free, 4*mp.pi, f2(4*mp.pi))`, printed with 22 digits.
+const TORQUED_REFERENCE: [(f64, [f64; 3]); 5] = [
+    (
+        5.0,
+        [
+            0.9716899970677550153147,
+            0.1867795317989672177968,
+            0.8922137426650541329158,
+        ],
+    ),
+    (
+        10.0,
+        [
+            0.8896590342181640462611,
+            0.3609941159787126767976,
+            0.8756003877860809300172,
+        ],
+    ),
+    (
+        12.0,
+        [
+            -0.9941191227758905890583,
+            -0.08561238860152546970508,
+            1.012724463713526532156,
+        ],
+    ),
+    (
+        15.0,
+        [
+            0.0890302911633593696832,
+            0.7874299997679823343211,
+            0.8888141820835497234592,
+        ],
+    ),
+    (
+        20.0,
+        [
+            -0.9011799837228600526072,
+            0.3426684229481774946707,
+            0.9955101169010664168852,
+        ],
+    ),
+];
+
+#[test]
+fn windowed_torque_matches_high_precision_reference() {
+    let moments = Vector3::new(0.5, 2.0, 3.0);
+    let s0 = State::from_omega(Vector3::new(1.0, 0.0, 0.9));
+    let pulse = FnTorque::with_dependencies(
+        |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+            Ok(Vector3::new(0.0, 0.0, 0.25 * t.sin().powi(2)))
+        },
+        false,
+        false,
+    );
+    let torque = Windowed::new(pulse, 3.0 * PI, 4.0 * PI).unwrap();
+    let times: Vec<f64> = TORQUED_REFERENCE.iter().map(|r| r.0).collect();
+    let mut methods = fixed_methods(1e-3);
+    methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-13))));
+    // Largest errors in w and (against a tight dop853) in the attitude, in radians.
+    let bounds = [
+        (3e-6, 3e-6),
+        (5e-12, 5e-12),
+        (2e-12, 3e-12),
+        (5e-6, 5e-6),
+        (3e-12, 3e-12),
+        (1e-12, 0.0),
+    ];
+    let options = Options {
+        torque: Some(&torque),
+        ..Options::default()
+    };
+    let tight = run(
+        Method::Dop853(Dop853Options::with_rtol(1e-14)),
+        moments,
+        &s0,
+        &times,
+        &options,
+    )
+    .attitude
+    .unwrap();
+    for ((name, method), (bound_w, bound_q)) in methods.into_iter().zip(bounds) {
+        for with_attitude in [false, true] {
+            let options = Options {
+                torque: Some(&torque),
+                with_attitude,
+                ..Options::default()
+            };
+            let sol = run(method, moments, &s0, &times, &options);
+            for (k, (t, w)) in TORQUED_REFERENCE.iter().enumerate() {
+                let err = (sol.omega[k] - Vector3::from(*w)).norm();
+                assert!(
+                    err < bound_w,
+                    "{name} attitude={with_attitude} t={t}: {err:e}"
+                );
+                if let (Some(att), true) = (&sol.attitude, bound_q > 0.0) {
+                    let e = att[k].angle_to(&tight[k]);
+                    assert!(e < bound_q, "{name} t={t}: attitude {e:e}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn gravity_gradient_torque_has_its_closed_form() {
+    // r = (cos a, 0, sin a) in body axes gives tau = (0, 3 n^2 (Ix - Iz) sin a cos a, 0).
+    let moments = Vector3::new(2.0, 3.0, 5.0);
+    let n = 1.3e-3;
+    let gg = GravityGradient::new(moments, n, Vector3::z(), Vector3::x()).unwrap();
+    for a in [0.0, 0.3, 1.0, 2.5] {
+        // x_space = R x_body; radial (space x at t = 0) in body = R^T x = (cos a, 0, sin a).
+        let attitude = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a);
+        let tau = gg.torque_body(0.0, &Vector3::zeros(), &attitude);
+        let expected = Vector3::new(0.0, 3.0 * n * n * (2.0 - 5.0) * a.sin() * a.cos(), 0.0);
+        assert!(
+            (tau - expected).norm() <= 1e-15 * n * n * 10.0,
+            "{a}: {tau:?} vs {expected:?}"
+        );
+    }
+    // Radial direction: a quarter orbit later it points along k x r0.
+    let r = gg.radial_space(PI / 2.0 / n);
+    assert!((r - Vector3::y()).norm() < 1e-12);
+}
+
+#[test]
+fn earth_pointing_satellite_is_a_relative_equilibrium() {
+    // Body axes = (radial, along-track, orbit normal), spinning at the orbital rate: r stays on
+    // a principal axis, the torque vanishes and the body keeps pointing at the Earth.
+    let moments = Vector3::new(4.0, 5.0, 6.0);
+    let n = 1.1e-3;
+    let gg = GravityGradient::new(moments, n, Vector3::z(), Vector3::x()).unwrap();
+    let s0 = State::from_omega(Vector3::new(0.0, 0.0, n));
+    let period = 2.0 * PI / n;
+    let times = [0.37 * period, 1.7 * period];
+    let options = Options {
+        torque: Some(&gg),
+        ..Options::default()
+    };
+    let dt = period / 500.0;
+    for (name, method, bound) in [
+        (
+            "splitting",
+            Method::Splitting {
+                dt,
+                order: SplittingOrder::Two,
+            },
+            1e-12,
+        ),
+        ("rk4", Method::Rk4 { dt }, 1e-10),
+        ("dop853", Method::Dop853(Dop853Options::default()), 1e-9),
+        // Turning by 4 atan(h n / 4) instead of h n a step, it lags by 850 (h n)^3 / 48.
+        ("midpoint", Method::Midpoint { dt }, 1e-4),
+    ] {
+        let sol = run(method, moments, &s0, &times, &options);
+        let att = sol.attitude.unwrap();
+        for k in 0..times.len() {
+            let x_body_in_space = att[k] * Vector3::x();
+            let e = (x_body_in_space - gg.radial_space(times[k])).norm();
+            assert!(e < bound, "{name}: pointing error {e:e}");
+            assert!(
+                (sol.omega[k] - s0.omega).norm() < bound * n,
+                "{name}: {:?}",
+                sol.omega[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn midpoint_turns_by_the_cayley_angle() {
+    // Free spin about a principal axis: the midpoint rule turns by 4 atan(h w / 4) a step.
+    let moments = Vector3::new(4.0, 5.0, 6.0);
+    let w = 2.0;
+    let s0 = State::from_omega(Vector3::new(0.0, w, 0.0));
+    let (dt, steps) = (0.05, 123.0);
+    let sol = run(
+        Method::Midpoint { dt },
+        moments,
+        &s0,
+        &[steps * dt],
+        &Options::default(),
+    );
+    let angle = steps * 4.0 * (dt * w / 4.0).atan();
+    let expected = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), angle);
+    let e = sol.attitude.unwrap()[0].angle_to(&expected);
+    assert!(e < 1e-13, "{e:e}");
+    assert_eq!(sol.omega[0], s0.omega);
+}
+
+#[test]
+fn constant_and_summed_torques() {
+    // A body-axis torque on a sphere: w(t) = w0 + tau t / I.
+    let moments = Vector3::new(2.0, 2.0, 2.0);
+    let tau = Vector3::new(0.2, -0.4, 0.6);
+    let half = BodyConstantTorque::new(tau * 0.5).unwrap();
+    let sum = TorqueSum::new()
+        .with(half)
+        .with(BodyConstantTorque::new(tau * 0.5).unwrap());
+    assert!(!sum.depends_on_attitude() && !sum.depends_on_omega());
+    let s0 = State::from_omega(Vector3::new(1.0, 2.0, 3.0));
+    let options = Options {
+        torque: Some(&sum),
+        with_attitude: false,
+        ..Options::default()
+    };
+    // The axis rotations of the splitting do not commute: for a sphere its free flow is exact
+    // only up to O(dt^p); the other methods are exact here.
+    let bounds = [1e-5, 1e-10, 1e-12, 1e-12, 1e-12, 1e-12];
+    let methods = fixed_methods(1e-3)
+        .into_iter()
+        .chain([("dop853", Method::Dop853(Dop853Options::default()))]);
+    for ((name, method), bound) in methods.zip(bounds) {
+        let sol = run(method, moments, &s0, &[3.0], &options);
+        let expected = s0.omega + tau * (3.0 / 2.0);
+        assert!(
+            (sol.omega[0] - expected).norm() < bound * expected.norm(),
+            "{name}: {:?}",
+            sol.omega[0]
+        );
+    }
+    // A space-fixed torque on a sphere at rest: L_space(t) = tau_space t.
+    let space = SpaceConstantTorque::new(Vector3::new(0.0, 0.0, 0.5)).unwrap();
+    let s0 = State::new(
+        Vector3::zeros(),
+        UnitQuaternion::from_euler_angles(0.4, 0.1, -0.3),
+    );
+    let options = Options {
+        torque: Some(&space),
+        ..Options::default()
+    };
+    let methods = fixed_methods(1e-3)
+        .into_iter()
+        .chain([("dop853", Method::Dop853(Dop853Options::default()))]);
+    for ((name, method), bound) in methods.zip(bounds) {
+        let sol = run(method, moments, &s0, &[4.0], &options);
+        let l = sol.attitude.unwrap()[0] * moments.component_mul(&sol.omega[0]);
+        assert!(
+            (l - Vector3::new(0.0, 0.0, 2.0)).norm() < bound * 2.0,
+            "{name}: {l:?}"
+        );
+    }
+}
+
+#[test]
+fn a_failing_torque_stops_the_integration_with_its_error() {
+    let failing = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+        if t > 1.0 {
+            Err(Error::InvalidArgument {
+                name: "torque".into(),
+                reason: "raised in the callable".into(),
+            })
+        } else {
+            Ok(Vector3::new(0.0, 0.0, 0.1))
+        }
+    });
+    let nan = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+        Ok(Vector3::new(0.0, if t > 1.0 { f64::NAN } else { 0.0 }, 0.0))
+    });
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let s0 = State::from_omega(Vector3::new(0.1, 0.2, 0.3));
+    let mut methods = fixed_methods(0.01);
+    methods.push(("dop853", Method::Dop853(Dop853Options::default())));
+    for (name, method) in methods {
+        for with_attitude in [false, true] {
+            let options = Options {
+                torque: Some(&failing),
+                with_attitude,
+                ..Options::default()
+            };
+            let err = integrate(&method, &moments, &s0, &[0.5, 2.0], &options).unwrap_err();
+            assert!(
+                matches!(&err, Error::InvalidArgument { reason, .. }
+                    if reason == "raised in the callable"),
+                "{name}: {err}"
+            );
+            let options = Options {
+                torque: Some(&nan),
+                with_attitude,
+                ..Options::default()
+            };
+            let err = integrate(&method, &moments, &s0, &[0.5, 2.0], &options).unwrap_err();
+            assert!(matches!(&err, Error::NonFinite { .. }), "{name}: {err}");
+        }
+    }
+}
+
+#[test]
+fn invalid_arguments_are_rejected_with_named_errors() {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let s0 = State::from_omega(Vector3::new(0.1, 0.2, 0.3));
+    let rk4 = Method::Rk4 { dt: 0.1 };
+    let o = Options::default();
+    let name_of = |e: Error| match e {
+        Error::NonFinite { name, .. }
+        | Error::NonPositive { name, .. }
+        | Error::InvalidArgument { name, .. } => name,
+        other => panic!("unexpected {other}"),
+    };
+    let bad_omega = State::from_omega(Vector3::new(0.0, f64::NAN, 0.0));
+    assert_eq!(
+        name_of(integrate(&rk4, &moments, &bad_omega, &[1.0], &o).unwrap_err()),
+        "state0.omega[1]"
+    );
+    assert_eq!(
+        name_of(integrate(&rk4, &Vector3::new(1.0, 0.0, 3.0), &s0, &[1.0], &o).unwrap_err()),
+        "moments[1]"
+    );
+    assert_eq!(
+        name_of(integrate(&rk4, &Vector3::new(1.0, 2.0, -3.0), &s0, &[1.0], &o).unwrap_err()),
+        "moments[2]"
+    );
+    for dt in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        for m in [
+            Method::Rk4 { dt },
+            Method::Midpoint { dt },
+            Method::Splitting {
+                dt,
+                order: SplittingOrder::Two,
+            },
+        ] {
+            assert_eq!(
+                name_of(integrate(&m, &moments, &s0, &[1.0], &o).unwrap_err()),
+                "dt"
+            );
+        }
+    }
+    assert_eq!(
+        name_of(integrate(&rk4, &moments, &s0, &[1.0, 0.5], &o).unwrap_err()),
+        "times"
+    );
+    assert_eq!(
+        name_of(integrate(&rk4, &moments, &s0, &[1.0, f64::NAN], &o).unwrap_err()),
+        "times[1]"
+    );
+    let late = Options {
+        t0: 2.0,
+        ..Options::default()
+    };
+    assert_eq!(
+        name_of(integrate(&rk4, &moments, &s0, &[1.0], &late).unwrap_err()),
+        "times"
+    );
+    let dop = |rtol, atol| {
+        Method::Dop853(Dop853Options {
+            rtol,
+            atol,
+            ..Dop853Options::default()
+        })
+    };
+    assert_eq!(
+        name_of(integrate(&dop(0.0, None), &moments, &s0, &[1.0], &o).unwrap_err()),
+        "rtol"
+    );
+    assert_eq!(
+        name_of(integrate(&dop(1e-20, None), &moments, &s0, &[1.0], &o).unwrap_err()),
+        "rtol"
+    );
+    assert_eq!(
+        name_of(integrate(&dop(1e-8, Some(-1.0)), &moments, &s0, &[1.0], &o).unwrap_err()),
+        "atol"
+    );
+    let few = Options {
+        max_steps: 10,
+        ..Options::default()
+    };
+    assert!(integrate(&rk4, &moments, &s0, &[10.0], &few).is_err());
+    assert!(matches!(
+        integrate(&dop(1e-12, None), &moments, &s0, &[1e3], &few),
+        Err(Error::NoConvergence { .. })
+    ));
+    assert!(Moments::new(Vector3::new(1.0, f64::INFINITY, 1.0)).is_err());
+    // The angular-velocity-only steps refuse an attitude-dependent torque.
+    let body = Moments::new(moments).unwrap();
+    let gravity = PivotGravity::new(Vector3::z(), 1.0, -Vector3::z()).unwrap();
+    assert!(rk4_step_omega_torqued(&body, &gravity, 0.0, &s0.omega, 0.1).is_err());
+    assert!(GravityGradient::new(moments, 1.0, Vector3::z(), Vector3::z() * 2.0).is_err());
+    assert!(Windowed::new(gravity, 2.0, 1.0).is_err());
+}
+
+#[test]
+fn output_times_are_hit_exactly_and_steps_never_exceed_dt() {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let s0 = State::from_omega(Vector3::new(0.3, 0.2, 0.1));
+    let body = Moments::new(moments).unwrap();
+    // t0 = 1, outputs at t0 (initial state), twice at 1.25, and at 1.3: 3 + 0 + 1 steps of dt 0.1.
+    let options = Options {
+        t0: 1.0,
+        ..Options::default()
+    };
+    let sol = run(
+        Method::Rk4 { dt: 0.1 },
+        moments,
+        &s0,
+        &[1.0, 1.25, 1.25, 1.3],
+        &options,
+    );
+    assert_eq!(sol.stats.steps, 4);
+    assert_eq!(sol.omega[0], s0.omega);
+    assert_eq!(sol.attitude.as_ref().unwrap()[0], s0.attitude);
+    assert_eq!(sol.omega[1], sol.omega[2]);
+    let mut s = s0;
+    for _ in 0..3 {
+        s = rk4_step(&body, &s, 0.25 / 3.0);
+    }
+    assert!((sol.omega[1] - s.omega).norm() < 1e-15);
+    assert!(sol.attitude.as_ref().unwrap()[1].angle_to(&s.attitude) < 1e-15);
+    // A segment of round-off length between a torque switch and an output time.
+    let kick = Windowed::new(BodyConstantTorque::new(Vector3::x()).unwrap(), 1.0, 2.0).unwrap();
+    let options = Options {
+        torque: Some(&kick),
+        ..Options::default()
+    };
+    let just_after = 1.0 + 4.0 * f64::EPSILON;
+    for method in [
+        Method::Dop853(Dop853Options::default()),
+        Method::Rk4 { dt: 0.1 },
+    ] {
+        let sol = run(method, moments, &s0, &[just_after, 1.5], &options);
+        assert!((sol.omega[0] - sol.omega[1]).norm() > 0.1);
+    }
+    // Output spacing a whole number of dt up to round-off gets no extra step.
+    let times: Vec<f64> = (1..=1000).map(|k| k as f64 * 0.1).collect();
+    let sol = run(
+        Method::Splitting {
+            dt: 0.01,
+            order: SplittingOrder::Two,
+        },
+        moments,
+        &s0,
+        &times,
+        &Options::default(),
+    );
+    assert_eq!(sol.stats.steps, 10_000);
+}
+
+#[test]
+fn omega_only_and_with_attitude_agree() {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let s0 = State::new(
+        Vector3::new(0.3, 1.2, 0.1),
+        UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3),
+    );
+    let times = [1.0, 5.0];
+    let mut methods = fixed_methods(0.01);
+    methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-12))));
+    for (name, method) in methods {
+        let a = run(
+            method,
+            moments,
+            &s0,
+            &times,
+            &Options {
+                with_attitude: false,
+                ..Options::default()
+            },
+        );
+        let b = run(method, moments, &s0, &times, &Options::default());
+        assert!(a.attitude.is_none());
+        // DOP853 controls the error of the quaternion too, so its steps differ.
+        let bound = if name == "dop853" { 1e-10 } else { 1e-13 };
+        for k in 0..2 {
+            let e = (a.omega[k] - b.omega[k]).norm() / s0.omega.norm();
+            assert!(e < bound, "{name}: {e:e}");
+        }
+    }
+}
+
+/// Scaling the moments by `a` and the angular velocity by `b` maps w(t) to b w(b t): every
+/// method must give the same relative errors (no absolute threshold anywhere).
+#[test]
+fn results_are_invariant_under_scaling_of_moments_and_angular_velocity() {
+    let base = Vector3::from(KROGH_MOMENTS);
+    let s0 = krogh_state0();
+    for (a, b) in [(1e12, 1e-12), (1e-12, 1e12), (1e-12, 1e-12), (1e12, 1e12)] {
+        let scaled = State::new(s0.omega * b, s0.attitude);
+        for (name, method) in fixed_methods(0.01)
+            .into_iter()
+            .chain([("dop853", Method::Dop853(Dop853Options::with_rtol(1e-10)))])
+        {
+            let scaled_method = match method {
+                Method::Splitting { dt, order } => Method::Splitting { dt: dt / b, order },
+                Method::Midpoint { dt } => Method::Midpoint { dt: dt / b },
+                Method::Rk4 { dt } => Method::Rk4 { dt: dt / b },
+                other => other,
+            };
+            let ref_sol = run(method, base, &s0, &[5.0], &Options::default());
+            let sol = run(
+                scaled_method,
+                base * a,
+                &scaled,
+                &[5.0 / b],
+                &Options::default(),
+            );
+            let e = (sol.omega[0] / b - ref_sol.omega[0]).norm() / s0.omega.norm();
+            assert!(e < 1e-9, "{name} a={a:e} b={b:e}: {e:e}");
+            let eq = sol.attitude.unwrap()[0].angle_to(&ref_sol.attitude.unwrap()[0]);
+            assert!(eq < 1e-9, "{name} a={a:e} b={b:e}: attitude {eq:e}");
+        }
+    }
+}
+
+#[test]
+fn batch_results_are_bitwise_identical_to_single_runs_whatever_the_threads() {
+    let n = 12;
+    let moments: Vec<Vector3<f64>> = (0..n)
+        .map(|i| {
+            Vector3::new(
+                1.0 + 0.01 * i as f64,
+                2.0 - 0.02 * i as f64,
+                2.5 + 0.005 * i as f64,
+            )
+        })
+        .collect();
+    let states: Vec<State> = (0..n)
+        .map(|i| {
+            State::new(
+                Vector3::new(0.1 * i as f64, 1.0, -0.3),
+                UnitQuaternion::from_euler_angles(0.01 * i as f64, 0.2, 0.0),
+            )
+        })
+        .collect();
+    let times = [0.5, 1.0];
+    let torque = PivotGravity::new(
+        Vector3::new(0.0, 0.0, 0.1),
+        1.0,
+        Vector3::new(0.0, 0.0, -9.81),
+    )
+    .unwrap();
+    for method in [
+        Method::Rk4 { dt: 0.01 },
+        Method::Splitting {
+            dt: 0.01,
+            order: SplittingOrder::Four,
+        },
+        Method::Midpoint { dt: 0.01 },
+        Method::Dop853(Dop853Options::default()),
+    ] {
+        for torque in [None, Some(&torque as &dyn Torque)] {
+            let options = Options {
+                torque,
+                ..Options::default()
+            };
+            let single: Vec<Trajectory> = (0..n)
+                .map(|i| run(method, moments[i], &states[i], &times, &options))
+                .collect();
+            for threads in [1, 2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let batch = pool
+                    .install(|| integrate_batch(&method, &moments, &states, &times, &options))
+                    .unwrap();
+                assert_eq!(batch, single, "{method:?} with {threads} threads");
+            }
+        }
+    }
+    // The first failing body is reported, by index.
+    let mut bad = states.clone();
+    bad[7].omega[0] = f64::NAN;
+    bad[9].omega[0] = f64::NAN;
+    match integrate_batch(
+        &Method::Rk4 { dt: 0.1 },
+        &moments,
+        &bad,
+        &times,
+        &Options::default(),
+    ) {
+        Err(Error::NonFinite { name, .. }) => assert_eq!(name, "state0.omega[0] (body 7)"),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Time per step of each method; run with
+/// `cargo test --release -p polhode --test dynamics -- --ignored --nocapture step_timings`.
+#[test]
+#[ignore = "timing report, not a check"]
+fn step_timings() {
+    use std::time::Instant;
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let s0 = State::new(
+        Vector3::new(0.3, 1.2, 0.1),
+        UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3),
+    );
+    let n = 200_000;
+    let times = [n as f64 * 1e-3];
+    let mut methods = fixed_methods(1e-3);
+    methods.push((
+        "dop853 rtol=1e-10",
+        Method::Dop853(Dop853Options::with_rtol(1e-10)),
+    ));
+    for (name, method) in methods {
+        for with_attitude in [false, true] {
+            let options = Options {
+                with_attitude,
+                ..Options::default()
+            };
+            // The best of 7 runs, against the noise of a shared machine.
+            let (mut ns, mut sol) = (f64::INFINITY, None);
+            for _ in 0..7 {
+                let start = Instant::now();
+                let s = run(method, moments, &s0, &times, &options);
+                ns = ns.min(start.elapsed().as_nanos() as f64 / s.stats.steps as f64);
+                sol = Some(s);
+            }
+            let sol = sol.unwrap();
+            println!(
+                "{name:>18} attitude={with_attitude:<5}: {ns:7.1} ns/step ({:?})",
+                sol.stats
+            );
+        }
+    }
+}
+
+/// A damping torque proportional to the angular momentum, tau = -k I w, keeps the free motion
+/// on a slowed clock: w(t) = exp(-k t) w_free(s), s = (1 - exp(-k t)) / k (the free field is
+/// quadratic). With k = 0.1 and t = 10 ln 2, s = 5: w = krogh(5) / 2.
+#[test]
+fn omega_dependent_damping_matches_the_reparametrised_free_motion() {
+    let moments = Vector3::from(KROGH_MOMENTS);
+    let k = 0.1;
+    let damping = FnTorque::with_dependencies(
+        move |_: f64, w: &Vector3<f64>, _: &UnitQuaternion<f64>| Ok(-k * moments.component_mul(w)),
+        false,
+        true,
+    );
+    let t = 10.0 * 2f64.ln();
+    let exact = krogh_exact(3) * 0.5;
+    let scale = exact.norm();
+    let mut methods = fixed_methods(1e-2);
+    methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-12))));
+    let bounds = [1e-5, 1e-9, 1e-13, 1e-5, 1e-10, 1e-12];
+    for ((name, method), bound) in methods.into_iter().zip(bounds) {
+        for with_attitude in [false, true] {
+            let options = Options {
+                torque: Some(&damping),
+                with_attitude,
+                ..Options::default()
+            };
+            let sol = run(method, moments, &krogh_state0(), &[t], &options);
+            let err = (sol.omega[0] - exact).norm() / scale;
+            assert!(err < bound, "{name} attitude={with_attitude}: {err:e}");
+        }
+    }
+    // The implicit kicks keep the splitting symmetric: orders 2 and 4 with this torque too.
+    let options = Options {
+        torque: Some(&damping),
+        with_attitude: false,
+        ..Options::default()
+    };
+    for (order, p) in [(SplittingOrder::Two, 2.0), (SplittingOrder::Four, 4.0)] {
+        let err = |dt: f64| {
+            let sol = run(
+                Method::Splitting { dt, order },
+                moments,
+                &krogh_state0(),
+                &[t],
+                &options,
+            );
+            (sol.omega[0] - exact).norm()
+        };
+        let q = observed_order(err, 0.05);
+        assert!((q - p).abs() < 0.15, "{order:?}: observed order {q}");
+    }
+    let err = |dt: f64| {
+        (run(
+            Method::Midpoint { dt },
+            moments,
+            &krogh_state0(),
+            &[t],
+            &options,
+        )
+        .omega[0]
+            - exact)
+            .norm()
+    };
+    let q = observed_order(err, 0.05);
+    assert!((q - 2.0).abs() < 0.1, "midpoint: observed order {q}");
+}
