@@ -178,20 +178,26 @@ impl<const L: usize> Lanes<L> {
                     c[l] = 1.0 / (1.0 + t[l] * t[l]).sqrt();
                     s[l] = t[l] * c[l];
                 }
+                // Each update is its own loop over the lanes (contiguous), so that it vectorises.
+                let a = &mut self.a;
+                let mut apq = [0.0; L];
+                apq.copy_from_slice(&a[p][q]);
                 for l in 0..L {
-                    let apq = self.a[p][q][l];
-                    let a = &mut self.a;
-                    a[p][p][l] -= t[l] * apq;
-                    a[q][q][l] += t[l] * apq;
-                    let keep = if t[l] == 0.0 { apq } else { 0.0 };
+                    a[p][p][l] -= t[l] * apq[l];
+                    a[q][q][l] += t[l] * apq[l];
+                    let keep = if t[l] == 0.0 { apq[l] } else { 0.0 };
                     a[p][q][l] = keep;
                     a[q][p][l] = keep;
+                }
+                for l in 0..L {
                     let (arp, arq) = (a[r][p][l], a[r][q][l]);
                     a[r][p][l] = c[l] * arp - s[l] * arq;
-                    a[p][r][l] = a[r][p][l];
                     a[r][q][l] = s[l] * arp + c[l] * arq;
+                    a[p][r][l] = a[r][p][l];
                     a[q][r][l] = a[r][q][l];
-                    for row in &mut self.v {
+                }
+                for row in &mut self.v {
+                    for l in 0..L {
                         let (vp, vq) = (row[p][l], row[q][l]);
                         row[p][l] = c[l] * vp - s[l] * vq;
                         row[q][l] = s[l] * vp + c[l] * vq;
