@@ -11,7 +11,7 @@ use nalgebra::{SVector, Vector3};
 
 use super::state::{Moments, State};
 use super::system::{normalize7, pack, unpack, Free, System, Torqued};
-use super::torque::Torque;
+use super::torque::{Segment, Torque};
 use super::Stats;
 use crate::{Error, Result};
 
@@ -33,10 +33,11 @@ fn ratio(e: f64, sc: f64) -> f64 {
     }
 }
 
-/// The stages `k_0 .. k_11` (k_0 given) and the 8th-order solution.
+/// The stages `k_0 .. k_11` (k_0 given) and the 8th-order solution, for a step in `segment`.
 #[inline]
 fn stages<S: System<N>, const N: usize>(
     sys: &S,
+    segment: &Segment,
     t: f64,
     y: &SVector<f64, N>,
     h: f64,
@@ -50,7 +51,7 @@ fn stages<S: System<N>, const N: usize>(
                 acc += k[j] * a;
             }
         }
-        k[s] = sys.rhs(t + C[s] * h, &(y + acc * h))?;
+        k[s] = sys.rhs(segment, t + C[s] * h, &(y + acc * h))?;
         *evals += 1;
     }
     let mut acc = SVector::<f64, N>::zeros();
@@ -106,8 +107,10 @@ struct Dense<const N: usize> {
 
 impl<const N: usize> Dense<N> {
     /// Needs `k_0 .. k_12` (`k_12 = f(t + h, y_new)`); computes `k_13 .. k_15`.
+    #[allow(clippy::too_many_arguments)]
     fn new<S: System<N>>(
         sys: &S,
+        segment: &Segment,
         t: f64,
         y: &SVector<f64, N>,
         y_new: &SVector<f64, N>,
@@ -122,7 +125,7 @@ impl<const N: usize> Dense<N> {
                     acc += k[j] * a;
                 }
             }
-            k[s] = sys.rhs(t + C[s] * h, &(y + acc * h))?;
+            k[s] = sys.rhs(segment, t + C[s] * h, &(y + acc * h))?;
             *evals += 1;
         }
         let dy = y_new - y;
@@ -164,6 +167,7 @@ pub(crate) struct Settings<const N: usize> {
 #[allow(clippy::too_many_arguments)]
 fn initial_step<S: System<N>, const N: usize>(
     sys: &S,
+    segment: &Segment,
     t: f64,
     y: &SVector<f64, N>,
     f0: &SVector<f64, N>,
@@ -184,7 +188,7 @@ fn initial_step<S: System<N>, const N: usize>(
         (dny / dnf).sqrt() * 0.01
     };
     h = h.min(hmax);
-    let f1 = sys.rhs(t + h, &(y + f0 * h))?;
+    let f1 = sys.rhs(segment, t + h, &(y + f0 * h))?;
     *evals += 1;
     let mut der2 = 0.0;
     for i in 0..N {
@@ -203,7 +207,8 @@ fn initial_step<S: System<N>, const N: usize>(
 
 /// Integrates from `(t0, y0)` to `t_end` and calls `out(k, y(times[k]))` for each output time
 /// (`times` non-decreasing, within `[t0, t_end]`); returns the final state and the next step
-/// size. `renormalize(y, f)` is applied after each accepted step to the new state and its
+/// size. `[t0, t_end]` must be free of discontinuities of the torque: the system is evaluated
+/// for the segment `[t0, t_end]`. `renormalize(y, f)` is applied after each accepted step to the new state and its
 /// derivative.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve<S: System<N>, const N: usize>(
@@ -229,13 +234,15 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
     let hmax = settings.max_step.unwrap_or(span).min(span);
     let mut t = t0;
     let mut y = *y0;
+    let segment = Segment::new(t0, t_end);
     let mut k = [SVector::<f64, N>::zeros(); 16];
-    k[0] = sys.rhs(t, &y)?;
+    k[0] = sys.rhs(&segment, t, &y)?;
     stats.rhs_evaluations += 1;
     let mut h = match settings.first_step {
         Some(h) => h.min(hmax),
         None => initial_step(
             sys,
+            &segment,
             t,
             &y,
             &k[0],
@@ -271,8 +278,8 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
                 ),
             });
         }
-        let y_new = stages(sys, t, &y, h, &mut k, &mut stats.rhs_evaluations)?;
-        k[12] = sys.rhs(t + h, &y_new)?;
+        let y_new = stages(sys, &segment, t, &y, h, &mut k, &mut stats.rhs_evaluations)?;
+        k[12] = sys.rhs(&segment, t + h, &y_new)?;
         stats.rhs_evaluations += 1;
         let err = error_norm(&k, &y, &y_new, h, &settings.tol);
         if err <= 1.0 {
@@ -287,6 +294,7 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
                         if dense.is_none() {
                             dense = Some(Dense::new(
                                 sys,
+                                &segment,
                                 t,
                                 &y,
                                 &y_new,
@@ -339,9 +347,10 @@ fn fixed_step<S: System<N>, const N: usize>(
     y: &SVector<f64, N>,
     h: f64,
 ) -> Result<SVector<f64, N>> {
+    let segment = Segment::of_step(t, h);
     let mut k = [SVector::<f64, N>::zeros(); 16];
-    k[0] = sys.rhs(t, y)?;
-    stages(sys, t, y, h, &mut k, &mut 0)
+    k[0] = sys.rhs(&segment, t, y)?;
+    stages(sys, &segment, t, y, h, &mut k, &mut 0)
 }
 
 /// One torque-free 8th-order Dormand-Prince step (fixed `h`, no error control) of the angular
@@ -368,7 +377,8 @@ pub fn dop853_step(body: &Moments, state: &State, h: f64) -> State {
 
 /// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity alone under `torque`
 /// from time `t`. The torque is evaluated with the identity attitude: an attitude-dependent
-/// torque is an error.
+/// torque is an error. The step is taken as free of the torque's discontinuities: a switched
+/// torque is in the state it has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn dop853_step_omega_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -381,7 +391,8 @@ pub fn dop853_step_omega_torqued<T: Torque + ?Sized>(
 }
 
 /// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity and attitude under
-/// `torque` from time `t`.
+/// `torque` from time `t` (a step free of the torque's discontinuities, as in
+/// [`dop853_step_omega_torqued`]).
 pub fn dop853_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,

@@ -16,7 +16,7 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use super::state::{Moments, State};
-use super::torque::Torque;
+use super::torque::{Segment, Torque};
 use crate::{Error, Result};
 
 const MAX_ITERATIONS: usize = 50;
@@ -127,11 +127,13 @@ fn half_attitude(q: &Vector4<f64>, wm: &Vector3<f64>, h: f64) -> UnitQuaternion<
     UnitQuaternion::new_unchecked(Quaternion::from(p / p.norm()))
 }
 
-/// The torque term `I^-1 tau(t_m, w_m, q_m)`.
+/// The torque term `I^-1 tau(t_m, w_m, q_m)`, for a step in `segment`.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn torque_term<T: Torque + ?Sized, const ATT: bool>(
     body: &Moments,
     torque: &T,
+    segment: &Segment,
     tm: f64,
     q: &Vector4<f64>,
     w: &Vector3<f64>,
@@ -146,13 +148,16 @@ fn torque_term<T: Torque + ?Sized, const ATT: bool>(
     };
     Ok(body
         .inverse()
-        .component_mul(&torque.try_torque_body(tm, w, &attitude)?))
+        .component_mul(&torque.try_torque_body_in(segment, tm, w, &attitude)?))
 }
 
-/// The midpoint value `w_m` under a torque, from `(w0, q)` at time `t`.
+/// The midpoint value `w_m` under a torque, from `(w0, q)` at time `t`, for a step lying in
+/// `segment`.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
     body: &Moments,
     torque: &T,
+    segment: &Segment,
     t: f64,
     w0: &Vector3<f64>,
     q: &Vector4<f64>,
@@ -161,12 +166,12 @@ pub(crate) fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
 ) -> Result<Vector3<f64>> {
     let k = 0.5 * h;
     let tm = t + k;
-    let g0 = torque_term::<T, ATT>(body, torque, t, q, w0, 0.0, evals)?;
+    let g0 = torque_term::<T, ATT>(body, torque, segment, t, q, w0, 0.0, evals)?;
     let mut w = w0 + (body.euler_rhs(w0) + g0) * k;
     let mut prev = f64::INFINITY;
     let mut torque_jacobian: Option<Mat3> = None;
     for iteration in 0..MAX_ITERATIONS {
-        let g = torque_term::<T, ATT>(body, torque, tm, q, &w, h, evals)?;
+        let g = torque_term::<T, ATT>(body, torque, segment, tm, q, &w, h, evals)?;
         let r = w0 + (body.euler_rhs(&w) + g) * k - w;
         let mut jac = body.euler_jacobian(&w);
         if let Some(jt) = &torque_jacobian {
@@ -189,7 +194,7 @@ pub(crate) fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
         if torque_jacobian.is_none() && iteration >= 1 && dn > 0.1 * prev {
             // Slow contraction: the torque depends strongly on w. Add its Jacobian by forward
             // differences (3 evaluations).
-            let g = torque_term::<T, ATT>(body, torque, tm, q, &w, h, evals)?;
+            let g = torque_term::<T, ATT>(body, torque, segment, tm, q, &w, h, evals)?;
             let scale = w.amax().max(w0.amax()).max((g * h).amax());
             let mut jt = [[0.0; 3]; 3];
             for j in 0..3 {
@@ -197,7 +202,7 @@ pub(crate) fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
                 let e = f64::EPSILON.sqrt() * scale.max(f64::MIN_POSITIVE.sqrt());
                 wp[j] += e;
                 let e = wp[j] - w[j];
-                let gp = torque_term::<T, ATT>(body, torque, tm, q, &wp, h, evals)?;
+                let gp = torque_term::<T, ATT>(body, torque, segment, tm, q, &wp, h, evals)?;
                 for (i, row) in jt.iter_mut().enumerate() {
                     row[j] = (gp[i] - g[i]) / e;
                 }
@@ -231,6 +236,8 @@ pub fn midpoint_step(body: &Moments, state: &State, h: f64) -> Result<State> {
 
 /// One implicit midpoint step of the angular velocity alone under `torque`, from time `t`. The
 /// torque is evaluated with the identity attitude: an attitude-dependent torque is an error.
+/// The step is taken as free of the torque's discontinuities: a switched torque is in the state
+/// it has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn midpoint_step_omega_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -240,11 +247,13 @@ pub fn midpoint_step_omega_torqued<T: Torque + ?Sized>(
 ) -> Result<Vector3<f64>> {
     super::torque::require_attitude_free(torque)?;
     let q = Vector4::new(0.0, 0.0, 0.0, 1.0);
-    let wm = torqued_midpoint::<T, false>(body, torque, t, omega, &q, h, &mut 0)?;
+    let segment = Segment::of_step(t, h);
+    let wm = torqued_midpoint::<T, false>(body, torque, &segment, t, omega, &q, h, &mut 0)?;
     Ok(wm * 2.0 - omega)
 }
 
-/// One implicit midpoint step of the angular velocity and attitude under `torque`, from `t`.
+/// One implicit midpoint step of the angular velocity and attitude under `torque`, from `t` (a
+/// step free of the torque's discontinuities, as in [`midpoint_step_omega_torqued`]).
 pub fn midpoint_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -253,7 +262,8 @@ pub fn midpoint_step_torqued<T: Torque + ?Sized>(
     h: f64,
 ) -> Result<State> {
     let q = state.attitude.coords;
-    let wm = torqued_midpoint::<T, true>(body, torque, t, &state.omega, &q, h, &mut 0)?;
+    let segment = Segment::of_step(t, h);
+    let wm = torqued_midpoint::<T, true>(body, torque, &segment, t, &state.omega, &q, h, &mut 0)?;
     let q = cayley_update(&q, &wm, h);
     Ok(State {
         omega: wm * 2.0 - state.omega,

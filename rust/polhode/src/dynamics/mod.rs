@@ -53,6 +53,6 @@ pub use splitting::{
 };
 pub use state::{Moments, State};
 pub use torque::{
-    BodyConstantTorque, FnTorque, GravityGradient, PivotGravity, SpaceConstantTorque, Torque,
-    TorqueSum, Windowed,
+    BodyConstantTorque, FnTorque, GravityGradient, PivotGravity, Segment, SpaceConstantTorque,
+    Torque, TorqueSum, Windowed,
 };

@@ -7,22 +7,23 @@ use nalgebra::{SVector, Vector3, Vector4};
 
 use super::state::{quaternion_rate, Moments, State};
 use super::system::{normalize7, pack, unpack, Free, System, Torqued};
-use super::torque::Torque;
+use super::torque::{Segment, Torque};
 use crate::Result;
 
-/// One RK4 step of `y' = f(t, y)`.
+/// One RK4 step of `y' = f(t, y)`, lying in `segment`.
 #[inline]
 pub(crate) fn rk4<S: System<N>, const N: usize>(
     sys: &S,
+    segment: &Segment,
     t: f64,
     y: &SVector<f64, N>,
     h: f64,
 ) -> Result<SVector<f64, N>> {
     let half = 0.5 * h;
-    let k1 = sys.rhs(t, y)?;
-    let k2 = sys.rhs(t + half, &(y + k1 * half))?;
-    let k3 = sys.rhs(t + half, &(y + k2 * half))?;
-    let k4 = sys.rhs(t + h, &(y + k3 * h))?;
+    let k1 = sys.rhs(segment, t, y)?;
+    let k2 = sys.rhs(segment, t + half, &(y + k1 * half))?;
+    let k3 = sys.rhs(segment, t + half, &(y + k2 * half))?;
+    let k4 = sys.rhs(segment, t + h, &(y + k3 * h))?;
     Ok(y + (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0))
 }
 
@@ -51,7 +52,7 @@ pub(crate) fn rk4_free_attitude(
 /// One torque-free RK4 step of the angular velocity alone.
 #[must_use]
 pub fn rk4_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f64> {
-    match rk4(&Free { body }, 0.0, omega, h) {
+    match rk4(&Free { body }, &Segment::of_step(0.0, h), 0.0, omega, h) {
         Ok(w) => w,
         Err(_) => unreachable!("the torque-free field cannot fail"),
     }
@@ -60,7 +61,13 @@ pub fn rk4_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f
 /// One torque-free RK4 step of the angular velocity and attitude (quaternion renormalised).
 #[must_use]
 pub fn rk4_step(body: &Moments, state: &State, h: f64) -> State {
-    let mut y = match rk4(&Free { body }, 0.0, &pack(state), h) {
+    let mut y = match rk4(
+        &Free { body },
+        &Segment::of_step(0.0, h),
+        0.0,
+        &pack(state),
+        h,
+    ) {
         Ok(y) => y,
         Err(_) => unreachable!("the torque-free field cannot fail"),
     };
@@ -69,7 +76,9 @@ pub fn rk4_step(body: &Moments, state: &State, h: f64) -> State {
 }
 
 /// One RK4 step of the angular velocity alone under `torque` from time `t`. The torque is
-/// evaluated with the identity attitude: an attitude-dependent torque is an error.
+/// evaluated with the identity attitude: an attitude-dependent torque is an error. The step is
+/// taken as free of the torque's discontinuities: a switched torque is in the state it has at
+/// its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -78,10 +87,17 @@ pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
     h: f64,
 ) -> Result<Vector3<f64>> {
     super::torque::require_attitude_free(torque)?;
-    rk4(&Torqued { body, torque }, t, omega, h)
+    rk4(
+        &Torqued { body, torque },
+        &Segment::of_step(t, h),
+        t,
+        omega,
+        h,
+    )
 }
 
-/// One RK4 step of the angular velocity and attitude under `torque` from time `t`.
+/// One RK4 step of the angular velocity and attitude under `torque` from time `t` (a step free
+/// of the torque's discontinuities, as in [`rk4_step_omega_torqued`]).
 pub fn rk4_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -89,7 +105,8 @@ pub fn rk4_step_torqued<T: Torque + ?Sized>(
     state: &State,
     h: f64,
 ) -> Result<State> {
-    let mut y = rk4(&Torqued { body, torque }, t, &pack(state), h)?;
+    let segment = Segment::of_step(t, h);
+    let mut y = rk4(&Torqued { body, torque }, &segment, t, &pack(state), h)?;
     normalize7(&mut y);
     Ok(unpack(&y))
 }

@@ -4,12 +4,13 @@
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
 use super::state::{quaternion_rate, Moments, State};
-use super::torque::Torque;
+use super::torque::{Segment, Torque};
 use crate::Result;
 
-/// A right-hand side `y' = f(t, y)`.
+/// A right-hand side `y' = f(t, y)`, evaluated for a step lying in `segment` (free of
+/// discontinuities of the torque; see [`Torque::try_torque_body_in`]).
 pub(crate) trait System<const N: usize> {
-    fn rhs(&self, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>>;
+    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>>;
 }
 
 /// Splits a 7-vector into angular velocity and raw quaternion.
@@ -58,14 +59,14 @@ pub(crate) struct Free<'a> {
 
 impl System<3> for Free<'_> {
     #[inline]
-    fn rhs(&self, _t: f64, y: &SVector<f64, 3>) -> Result<SVector<f64, 3>> {
+    fn rhs(&self, _: &Segment, _t: f64, y: &SVector<f64, 3>) -> Result<SVector<f64, 3>> {
         Ok(self.body.euler_rhs(y))
     }
 }
 
 impl System<7> for Free<'_> {
     #[inline]
-    fn rhs(&self, _t: f64, y: &SVector<f64, 7>) -> Result<SVector<f64, 7>> {
+    fn rhs(&self, _: &Segment, _t: f64, y: &SVector<f64, 7>) -> Result<SVector<f64, 7>> {
         let (w, q) = parts(y);
         Ok(join(&self.body.euler_rhs(&w), &quaternion_rate(&q, &w)))
     }
@@ -80,20 +81,20 @@ pub(crate) struct Torqued<'a, T: ?Sized> {
 
 impl<T: Torque + ?Sized> System<3> for Torqued<'_, T> {
     #[inline]
-    fn rhs(&self, t: f64, y: &SVector<f64, 3>) -> Result<SVector<f64, 3>> {
+    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, 3>) -> Result<SVector<f64, 3>> {
         let tau = self
             .torque
-            .try_torque_body(t, y, &UnitQuaternion::identity())?;
+            .try_torque_body_in(segment, t, y, &UnitQuaternion::identity())?;
         Ok(self.body.euler_rhs_torqued(y, &tau))
     }
 }
 
 impl<T: Torque + ?Sized> System<7> for Torqued<'_, T> {
     #[inline]
-    fn rhs(&self, t: f64, y: &SVector<f64, 7>) -> Result<SVector<f64, 7>> {
+    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, 7>) -> Result<SVector<f64, 7>> {
         let (w, q) = parts(y);
         let attitude = UnitQuaternion::new_unchecked(Quaternion::from(q / q.norm()));
-        let tau = self.torque.try_torque_body(t, &w, &attitude)?;
+        let tau = self.torque.try_torque_body_in(segment, t, &w, &attitude)?;
         Ok(join(
             &self.body.euler_rhs_torqued(&w, &tau),
             &quaternion_rate(&q, &w),

@@ -5,11 +5,65 @@ use nalgebra::{UnitQuaternion, Vector3};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
 
+/// An interval of time `[start, end]` with no discontinuity of the torque inside, in which an
+/// integration step lies (see [`Torque::try_torque_body_in`]).
+///
+/// The driver [`super::integrate`] ends every step at each of the torque's
+/// [`Torque::discontinuities`], so each step lies in one segment between consecutive
+/// discontinuities (or output times); the single-step functions take the step itself,
+/// [`Segment::of_step`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    /// First time of the segment (may be `-inf`).
+    pub start: f64,
+    /// Last time of the segment, `>= start` (may be `+inf`).
+    pub end: f64,
+}
+
+impl Segment {
+    /// The segment between `a` and `b`, in either order.
+    #[must_use]
+    pub fn new(a: f64, b: f64) -> Self {
+        if b < a {
+            Self { start: b, end: a }
+        } else {
+            Self { start: a, end: b }
+        }
+    }
+
+    /// The segment covered by one step from `t` over `h` (of either sign).
+    #[must_use]
+    pub fn of_step(t: f64, h: f64) -> Self {
+        Self::new(t, t + h)
+    }
+
+    /// A time inside the segment, where a switched torque is in the state it has on the whole
+    /// segment: the midpoint (`start` for an empty segment; a finite time beyond the finite end
+    /// of a half-infinite one; 0 for the whole line).
+    #[must_use]
+    pub fn midpoint(&self) -> f64 {
+        let (a, b) = (self.start, self.end);
+        match (a.is_finite(), b.is_finite()) {
+            _ if a == b => a,
+            (true, true) => 0.5 * a + 0.5 * b,
+            (true, false) => (a + a.abs().max(1.0)).min(f64::MAX),
+            (false, true) => (b - b.abs().max(1.0)).max(-f64::MAX),
+            (false, false) => 0.0,
+        }
+    }
+}
+
 /// An external torque about the centre of mass (or the fixed pivot), in body axes.
 ///
-/// Integrators call [`Torque::try_torque_body`]; a model that cannot fail implements only
+/// Integrators call [`Torque::try_torque_body_in`], which by default is
+/// [`Torque::try_torque_body`]; a model that cannot fail implements only
 /// [`Torque::torque_body`]. A torque that fails (for instance a Python callable that raised)
 /// returns an error from `try_torque_body`, and the integration stops and returns that error.
+///
+/// A torque that switches (jumps, or a derivative jumps) at some times reports them in
+/// [`Torque::discontinuities`] and overrides [`Torque::try_torque_body_in`] so that, within a
+/// step, it stays in the state it has on the step's segment between two switches (see
+/// [`Windowed`]).
 pub trait Torque: Sync {
     /// The torque in body axes at time `t`, for the body angular velocity `omega` and the
     /// body-to-space `attitude`.
@@ -28,6 +82,27 @@ pub trait Torque: Sync {
         attitude: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         Ok(self.torque_body(t, omega, attitude))
+    }
+
+    /// The torque at the stage time `t` of a step that lies in `segment`, a segment with no
+    /// discontinuity of the torque inside (the path every integrator uses); by default
+    /// `try_torque_body(t, ..)`.
+    ///
+    /// A torque that switches at its [`Torque::discontinuities`] takes, whatever `t`, the state
+    /// it has inside `segment` (e.g. at [`Segment::midpoint`]): a stage at the end of a step
+    /// that ends where a window opens, or a stage of a composition of order 4 or 6 (whose
+    /// sub-steps go backwards and forwards, to times outside the step), must not see the
+    /// torque of the next segment, or the method loses its order. Its smooth part is still
+    /// evaluated at `t`, so that each step integrates the smooth torque of its segment.
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        attitude: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        let _ = segment;
+        self.try_torque_body(t, omega, attitude)
     }
 
     /// Whether the torque depends on the attitude. If not, the angular velocity can be
@@ -67,6 +142,15 @@ impl<T: Torque + ?Sized> Torque for &T {
     ) -> Result<Vector3<f64>> {
         (**self).try_torque_body(t, omega, attitude)
     }
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        attitude: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        (**self).try_torque_body_in(segment, t, omega, attitude)
+    }
     fn depends_on_attitude(&self) -> bool {
         (**self).depends_on_attitude()
     }
@@ -94,6 +178,15 @@ impl<T: Torque + ?Sized> Torque for Box<T> {
         attitude: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         (**self).try_torque_body(t, omega, attitude)
+    }
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        attitude: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        (**self).try_torque_body_in(segment, t, omega, attitude)
     }
     fn depends_on_attitude(&self) -> bool {
         (**self).depends_on_attitude()
@@ -306,7 +399,11 @@ impl Torque for GravityGradient {
 /// A torque active only on the half-open window `[start, end)` of time, zero elsewhere.
 ///
 /// `start` and `end` are reported by [`Torque::discontinuities`], so the driver ends a step at
-/// each and no step straddles a switch.
+/// each and no step straddles a switch. Within a step, [`Torque::try_torque_body_in`] decides
+/// on or off once for the step's segment (at its midpoint) and evaluates the inner torque at
+/// each stage time, even a stage time past a window end (a step ending at `start` is off
+/// throughout, a step starting there on throughout): each step integrates the smooth inner
+/// torque, or none, and every method keeps its order.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Windowed<T> {
     inner: T,
@@ -354,6 +451,19 @@ impl<T: Torque> Torque for Windowed<T> {
     ) -> Result<Vector3<f64>> {
         if self.active(t) {
             self.inner.try_torque_body(t, omega, attitude)
+        } else {
+            Ok(Vector3::zeros())
+        }
+    }
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        attitude: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        if self.active(segment.midpoint()) {
+            self.inner.try_torque_body_in(segment, t, omega, attitude)
         } else {
             Ok(Vector3::zeros())
         }
@@ -434,6 +544,19 @@ impl Torque for TorqueSum {
         }
         Ok(total)
     }
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        attitude: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        let mut total = Vector3::zeros();
+        for term in &self.terms {
+            total += term.try_torque_body_in(segment, t, omega, attitude)?;
+        }
+        Ok(total)
+    }
     fn depends_on_attitude(&self) -> bool {
         self.terms.iter().any(|term| term.depends_on_attitude())
     }
@@ -488,6 +611,15 @@ where
 
     /// Declares the times at which the closure's torque jumps (see
     /// [`Torque::discontinuities`]).
+    ///
+    /// Within a step, the closure is then asked only for times inside the step's piece between
+    /// two declared times: a stage time at or beyond one is moved just inside (by one ulp), so a
+    /// step ending at a declared time sees the closure's torque from before it, whichever side
+    /// the closure gives the time itself. A closure cannot be continued smoothly past its
+    /// piece: the stages of the order-4 and order-6 splittings that reach beyond a declared time
+    /// (their sub-steps go backwards and forwards) see the value at the end of the piece, which
+    /// costs those two methods some order in the steps next to it. A smooth closure switched
+    /// on and off keeps every order as the inner torque of a [`Windowed`].
     #[must_use]
     pub fn with_discontinuities(mut self, times: Vec<f64>) -> Self {
         self.breaks = times;
@@ -524,6 +656,29 @@ where
         }
         Ok(tau)
     }
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        attitude: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        if self.breaks.is_empty() {
+            return self.try_torque_body(t, omega, attitude);
+        }
+        // The piece (lo, hi) of the declared times that holds the segment.
+        let mid = segment.midpoint();
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for &b in &self.breaks {
+            if b <= mid {
+                lo = lo.max(b);
+            } else if b > mid {
+                hi = hi.min(b);
+            }
+        }
+        let inside = t.max(lo.next_up()).min(hi.next_down());
+        self.try_torque_body(inside, omega, attitude)
+    }
     fn depends_on_attitude(&self) -> bool {
         self.attitude
     }
@@ -544,5 +699,120 @@ pub(crate) fn require_attitude_free<T: Torque + ?Sized>(torque: &T) -> Result<()
         })
     } else {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn on_at(torque: &dyn Torque, segment: Segment, t: f64) -> f64 {
+        let w = Vector3::zeros();
+        torque
+            .try_torque_body_in(&segment, t, &w, &UnitQuaternion::identity())
+            .unwrap()[2]
+    }
+
+    #[test]
+    fn segment_midpoint_is_inside() {
+        assert_eq!(
+            Segment::new(3.0, 1.0),
+            Segment {
+                start: 1.0,
+                end: 3.0
+            }
+        );
+        assert_eq!(Segment::of_step(2.0, -0.5).midpoint(), 1.75);
+        assert_eq!(Segment::new(2.0, 2.0).midpoint(), 2.0);
+        for (a, b) in [
+            (5.0, f64::INFINITY),
+            (-5.0, f64::INFINITY),
+            (f64::MAX, f64::INFINITY),
+            (f64::NEG_INFINITY, 5.0),
+            (f64::NEG_INFINITY, -f64::MAX),
+            (f64::NEG_INFINITY, f64::INFINITY),
+            (-f64::MAX, f64::MAX),
+        ] {
+            let m = Segment::new(a, b).midpoint();
+            assert!(m.is_finite() && a <= m && m <= b, "{a} {b}: {m}");
+            let extreme = (m == a && a == f64::MAX) || (m == b && b == -f64::MAX);
+            assert!((a < m && m < b) || extreme, "{a} {b}: {m}");
+        }
+    }
+
+    /// A switched torque is decided once for the segment, through every wrapper; the inner
+    /// torque is evaluated at the stage time, even outside the segment.
+    #[test]
+    fn switched_torques_take_the_state_of_their_segment() {
+        let ramp = FnTorque::with_dependencies(
+            |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| Ok(Vector3::new(0.0, 0.0, t)),
+            false,
+            false,
+        );
+        let window = Windowed::new(ramp, 1.0, 2.0).unwrap();
+        let boxed: Box<dyn Torque + Send> = Box::new(
+            Windowed::new(BodyConstantTorque::new(Vector3::z()).unwrap(), 1.0, 2.0).unwrap(),
+        );
+        let sum = TorqueSum::new()
+            .with(Windowed::new(BodyConstantTorque::new(Vector3::z()).unwrap(), 1.0, 2.0).unwrap())
+            .with(
+                Windowed::new(
+                    Windowed::new(
+                        BodyConstantTorque::new(Vector3::z() * 10.0).unwrap(),
+                        0.0,
+                        1.5,
+                    )
+                    .unwrap(),
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                )
+                .unwrap(),
+            );
+        let before = Segment::new(0.5, 1.0);
+        let inside = Segment::new(1.0, 1.5);
+        let after = Segment::new(1.5, 2.0);
+        // Stage times at and beyond the ends of the segment.
+        for t in [0.4, 1.0, 1.6] {
+            assert_eq!(on_at(&window, before, t), 0.0);
+            assert_eq!(on_at(&window, inside, t), t);
+            assert_eq!(on_at(&&window, inside, t), t);
+            assert_eq!(on_at(&boxed, before, t), 0.0);
+            assert_eq!(on_at(&boxed, inside, t), 1.0);
+            assert_eq!(on_at(&sum, before, t), 10.0);
+            assert_eq!(on_at(&sum, inside, t), 11.0);
+            assert_eq!(on_at(&sum, after, t), 1.0);
+        }
+        // The plain evaluation keeps the half-open window.
+        let w = Vector3::zeros();
+        let q = UnitQuaternion::identity();
+        assert_eq!(window.try_torque_body(1.0, &w, &q).unwrap()[2], 1.0);
+        assert_eq!(window.try_torque_body(2.0, &w, &q).unwrap()[2], 0.0);
+    }
+
+    /// A closure with declared discontinuities is asked only about times inside the piece
+    /// holding the segment (moved in by one ulp), whichever side it gives the switch itself.
+    #[test]
+    fn closures_are_asked_only_inside_their_piece() {
+        let closure = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+            Ok(Vector3::new(0.0, 0.0, t))
+        })
+        .with_discontinuities(vec![2.0, 1.0]);
+        let inside = Segment::new(1.0, 1.5);
+        assert_eq!(on_at(&closure, inside, 1.25), 1.25);
+        assert_eq!(on_at(&closure, inside, 0.5), 1.0f64.next_up());
+        assert_eq!(on_at(&closure, inside, 2.5), 2.0f64.next_down());
+        assert_eq!(
+            on_at(&closure, Segment::new(2.0, 3.0), 1.0),
+            2.0f64.next_up()
+        );
+        assert_eq!(
+            on_at(&closure, Segment::new(0.0, 1.0), 1.0),
+            1.0f64.next_down()
+        );
+        // Without declared discontinuities, the stage time as it is.
+        let smooth = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+            Ok(Vector3::new(0.0, 0.0, t))
+        });
+        assert_eq!(on_at(&smooth, inside, 2.5), 2.5);
     }
 }
