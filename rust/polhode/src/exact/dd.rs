@@ -1,0 +1,317 @@
+//! Double-double arithmetic (an unevaluated sum `hi + lo` of two doubles, about 106 bits).
+//!
+//! Error-free transformations after Dekker (1971) and Knuth; the algorithms are those of the QD
+//! library (Hida, Li & Bailey 2001). Used only for the constants that set the phase of the exact
+//! motion, so that the phase error does not grow with time beyond the rounding of the time itself.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// `hi + lo` with `|lo| <= ulp(hi) / 2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Dd {
+    pub hi: f64,
+    pub lo: f64,
+}
+
+/// `a + b = s + e` exactly (Knuth's TwoSum).
+#[inline]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    let e = (a - (s - bb)) + (b - bb);
+    (s, e)
+}
+
+/// `a + b = s + e` exactly, given `|a| >= |b|` (Dekker's FastTwoSum).
+#[inline]
+fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    (s, b - (s - a))
+}
+
+/// `a * b = p + e` exactly (with a fused multiply-add).
+#[inline]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+impl Dd {
+    pub const ZERO: Dd = Dd { hi: 0.0, lo: 0.0 };
+    pub const ONE: Dd = Dd { hi: 1.0, lo: 0.0 };
+    /// pi to 106 bits.
+    pub const PI: Dd = Dd {
+        hi: std::f64::consts::PI,
+        lo: 1.224_646_799_147_353_2e-16,
+    };
+    /// 2 pi to 106 bits.
+    pub const TAU: Dd = Dd {
+        hi: std::f64::consts::TAU,
+        lo: 2.449_293_598_294_706_4e-16,
+    };
+
+    #[inline]
+    pub fn new(x: f64) -> Dd {
+        Dd { hi: x, lo: 0.0 }
+    }
+
+    /// The exact sum of two doubles.
+    #[inline]
+    pub fn sum(a: f64, b: f64) -> Dd {
+        let (hi, lo) = two_sum(a, b);
+        Dd { hi, lo }
+    }
+
+    /// The exact product of two doubles.
+    #[inline]
+    pub fn prod(a: f64, b: f64) -> Dd {
+        let (hi, lo) = two_prod(a, b);
+        Dd { hi, lo }
+    }
+
+    #[inline]
+    pub fn to_f64(self) -> f64 {
+        self.hi + self.lo
+    }
+
+    #[inline]
+    pub fn mul_f64(self, b: f64) -> Dd {
+        let (p, e) = two_prod(self.hi, b);
+        let e = self.lo.mul_add(b, e);
+        let (hi, lo) = quick_two_sum(p, e);
+        Dd { hi, lo }
+    }
+
+    /// Square root (one Newton step on the double estimate, Karp & Markstein).
+    pub fn sqrt(self) -> Dd {
+        if self.hi <= 0.0 {
+            return Dd::new(self.hi.sqrt());
+        }
+        let x = self.hi.sqrt();
+        let r = self - Dd::prod(x, x);
+        let (hi, lo) = quick_two_sum(x, r.hi / (2.0 * x));
+        Dd { hi, lo }
+    }
+
+    /// The nearest integer (ties away from zero), as a double-double.
+    pub fn round(self) -> Dd {
+        let hi = self.hi.round();
+        if hi == self.hi {
+            // hi is an integer: round the low part.
+            let lo = self.lo.round();
+            let (hi, lo) = quick_two_sum(hi, lo);
+            // A tie on the low part that crossed half an integer is harmless here.
+            Dd { hi, lo }
+        } else if (hi - self.hi).abs() == 0.5 {
+            // Exactly half on hi: the low part decides.
+            let hi = if self.lo > 0.0 {
+                self.hi.ceil()
+            } else if self.lo < 0.0 {
+                self.hi.floor()
+            } else {
+                hi
+            };
+            Dd::new(hi)
+        } else {
+            Dd::new(hi)
+        }
+    }
+
+    pub fn abs(self) -> Dd {
+        if self.hi < 0.0 {
+            -self
+        } else {
+            self
+        }
+    }
+}
+
+impl Neg for Dd {
+    type Output = Dd;
+    #[inline]
+    fn neg(self) -> Dd {
+        Dd {
+            hi: -self.hi,
+            lo: -self.lo,
+        }
+    }
+}
+
+impl Add for Dd {
+    type Output = Dd;
+    #[inline]
+    fn add(self, b: Dd) -> Dd {
+        // The accurate (IEEE-style) addition of QD.
+        let (s1, s2) = two_sum(self.hi, b.hi);
+        let (t1, t2) = two_sum(self.lo, b.lo);
+        let s2 = s2 + t1;
+        let (s1, s2) = quick_two_sum(s1, s2);
+        let s2 = s2 + t2;
+        let (hi, lo) = quick_two_sum(s1, s2);
+        Dd { hi, lo }
+    }
+}
+
+impl Add<f64> for Dd {
+    type Output = Dd;
+    #[inline]
+    fn add(self, b: f64) -> Dd {
+        let (s1, s2) = two_sum(self.hi, b);
+        let s2 = s2 + self.lo;
+        let (hi, lo) = quick_two_sum(s1, s2);
+        Dd { hi, lo }
+    }
+}
+
+impl Sub for Dd {
+    type Output = Dd;
+    #[inline]
+    fn sub(self, b: Dd) -> Dd {
+        self + (-b)
+    }
+}
+
+impl Sub<f64> for Dd {
+    type Output = Dd;
+    #[inline]
+    fn sub(self, b: f64) -> Dd {
+        self + (-b)
+    }
+}
+
+impl Mul for Dd {
+    type Output = Dd;
+    #[inline]
+    fn mul(self, b: Dd) -> Dd {
+        let (p, e) = two_prod(self.hi, b.hi);
+        let e = e + (self.hi * b.lo + self.lo * b.hi);
+        let (hi, lo) = quick_two_sum(p, e);
+        Dd { hi, lo }
+    }
+}
+
+impl Mul<f64> for Dd {
+    type Output = Dd;
+    #[inline]
+    fn mul(self, b: f64) -> Dd {
+        self.mul_f64(b)
+    }
+}
+
+impl Div for Dd {
+    type Output = Dd;
+    #[inline]
+    fn div(self, b: Dd) -> Dd {
+        // Long division with three partial quotients (QD's accurate division).
+        let q1 = self.hi / b.hi;
+        let r = self - b * q1;
+        let q2 = r.hi / b.hi;
+        let r = r - b * q2;
+        let q3 = r.hi / b.hi;
+        let (hi, lo) = quick_two_sum(q1, q2);
+        Dd { hi, lo } + q3
+    }
+}
+
+impl Div<f64> for Dd {
+    type Output = Dd;
+    #[inline]
+    fn div(self, b: f64) -> Dd {
+        self / Dd::new(b)
+    }
+}
+
+/// The arithmetic-geometric mean of 1 and `b` (`0 < b <= 1`), to double-double accuracy.
+pub(crate) fn agm1(b: Dd) -> Dd {
+    let mut a = Dd::ONE;
+    let mut g = b;
+    for _ in 0..64 {
+        let diff = (a - g).hi.abs();
+        if diff <= 1e-33 * a.hi {
+            break;
+        }
+        let a1 = (a + g) * 0.5;
+        g = (a * g).sqrt();
+        a = a1;
+    }
+    (a + g) * 0.5
+}
+
+/// Bulirsch's general complete elliptic integral
+/// `cel(kc, p, a, b) = int_0^{pi/2} (a cos^2 + b sin^2) / ((cos^2 + p sin^2) sqrt(cos^2 + kc^2 sin^2)) dt`
+/// for `kc > 0` and `p > 0`, by Bulirsch's quadratically convergent algorithm (Bulirsch 1969,
+/// Numer. Math. 13, 305), in double-double.
+pub(crate) fn cel(kc: Dd, p: Dd, a: Dd, b: Dd) -> Dd {
+    let mut kc = kc.abs();
+    let mut e = kc;
+    let mut m = Dd::ONE;
+    let mut p = p.sqrt();
+    let mut a = a;
+    let mut b = b / p;
+    for _ in 0..64 {
+        let f = a;
+        a = a + b / p;
+        let g = e / p;
+        b = (b + f * g) * 2.0;
+        p = g + p;
+        let g = m;
+        m = m + kc;
+        if (g - kc).hi.abs() <= g.hi * 1e-16 {
+            break;
+        }
+        kc = e.sqrt() * 2.0;
+        e = kc * m;
+    }
+    let half_pi = Dd::PI * 0.5;
+    half_pi * (b + a * m) / (m * (m + p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arithmetic_is_double_double() {
+        let third = Dd::ONE / Dd::new(3.0);
+        let back = third * 3.0 - 1.0;
+        assert!(back.hi.abs() < 1e-31);
+        let two = Dd::new(2.0).sqrt();
+        assert!((two * two - 2.0).hi.abs() < 1e-31);
+        // 2^(1/2) = 1.4142135623730950488016887242097
+        assert_eq!(two.hi, std::f64::consts::SQRT_2);
+        assert!((two.lo - (-9.667_293_313_452_913e-17)).abs() < 1e-31);
+    }
+
+    #[test]
+    fn cel_gives_complete_integrals() {
+        // cel(kc, 1, 1, 1) = K and pi / (2 AGM); cel(kc, p, 1, 1) at p = 1 - n is Pi(n).
+        for kc in [1.0, 0.5, 1e-3, 1e-150] {
+            let k1 = cel(Dd::new(kc), Dd::ONE, Dd::ONE, Dd::ONE);
+            let k2 = Dd::PI / (agm1(Dd::new(kc)) * 2.0);
+            assert!((k1 - k2).hi.abs() <= 1e-30 * k2.hi, "kc = {kc}");
+        }
+        // K(m = 0) = pi/2 exactly; Pi(n | 0) = pi / (2 sqrt(1 - n)).
+        let k = cel(Dd::ONE, Dd::ONE, Dd::ONE, Dd::ONE);
+        assert!((k - Dd::PI * 0.5).hi.abs() < 1e-31);
+        let p = cel(Dd::ONE, Dd::new(4.0), Dd::ONE, Dd::ONE);
+        assert!((p - Dd::PI * 0.25).hi.abs() < 1e-31);
+    }
+
+    #[test]
+    fn rounding() {
+        let x = Dd {
+            hi: 4.0,
+            lo: -1e-20,
+        };
+        assert_eq!(x.round().to_f64(), 4.0);
+        let y = Dd { hi: 2.5, lo: 1e-20 };
+        assert_eq!(y.round().to_f64(), 3.0);
+        let z = Dd {
+            hi: 2.5,
+            lo: -1e-20,
+        };
+        assert_eq!(z.round().to_f64(), 2.0);
+        let w = Dd { hi: -7.3, lo: 0.0 };
+        assert_eq!(w.round().to_f64(), -7.0);
+    }
+}
