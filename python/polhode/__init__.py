@@ -1,11 +1,26 @@
 """polhode: the rotation of rigid bodies, with a Rust core.
 
-Mass properties and principal axes (:class:`Body`, :func:`principal`); see the README.
+Mass properties and principal axes (:class:`Body`, :func:`principal`), motion
+(:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); see the README.
 """
 
+from polhode import torque
 from polhode._core import InertiaError, PolhodeError
+from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.principal_axes import Principal, principal
+from polhode.simulation import Trajectory, simulate
 
-__all__ = ["Body", "InertiaError", "PolhodeError", "Principal", "principal"]
+__all__ = [
+    "Analysis",
+    "Body",
+    "InertiaError",
+    "PolhodeError",
+    "Principal",
+    "Trajectory",
+    "analyze",
+    "principal",
+    "simulate",
+    "torque",
+]
 __version__ = "0.1.0"

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from polhode._core import PolhodeError
 
-__all__ = ["as_array", "as_rotation_matrix", "as_scalar"]
+__all__ = ["as_array", "as_integer", "as_rotation_matrix", "as_scalar", "check_rotation_matrices"]
 
 
 def _shape_str(shape: tuple[int, ...]) -> str:
@@ -86,3 +86,35 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
         f"Expected `{name}` to have shape (3, 3) or (4,) (an x, y, z, w quaternion), "
         f"got {_shape_str(array.shape)}."
     )
+
+
+def as_integer(
+    name: str, value: Any, *, allowed: tuple[int, ...] = (), minimum: int | None = None
+) -> int:
+    """An integer (bool excluded): TypeError for other types, PolhodeError outside the range."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"Expected `{name}` to be an integer, got {type(value).__name__}.")
+    result = int(value)
+    if allowed and result not in allowed:
+        choices = ", ".join(map(str, allowed))
+        raise PolhodeError(f"Expected `{name}` to be one of {choices}, got {result}.")
+    if minimum is not None and result < minimum:
+        raise PolhodeError(f"Expected `{name}` to be >= {minimum}, got {result}.")
+    return result
+
+
+def check_rotation_matrices(name: str, matrices: NDArray[np.float64]) -> None:
+    """Each (..., 3, 3) matrix must be a proper rotation to 1e-9 (finite, orthogonal, det +1)."""
+    if not np.all(np.isfinite(matrices)):
+        raise PolhodeError(f"Expected `{name}` to be finite.")
+    m = matrices.reshape(-1, 3, 3)
+    defect = np.linalg.norm(np.swapaxes(m, 1, 2) @ m - np.eye(3), axis=(1, 2))
+    if np.any(defect > 1e-9):
+        raise PolhodeError(
+            f"Expected `{name}` to be a rotation matrix (orthogonal), but |R^T R - 1| = "
+            f"{float(defect.max()):.3g}."
+        )
+    if np.any(np.linalg.det(m) < 0):
+        raise PolhodeError(
+            f"Expected `{name}` to be a proper rotation (det = +1), got a reflection (det = -1)."
+        )

@@ -1,11 +1,18 @@
 """Type stubs for the compiled core (checked by ``python -m mypy.stubtest polhode._core``)."""
 
-from typing import final
+from typing import Any, final
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["InertiaError", "MassProperties", "PolhodeError", "principal"]
+__all__ = [
+    "InertiaError",
+    "MassProperties",
+    "PolhodeError",
+    "free_rotation",
+    "principal",
+    "simulate",
+]
 
 class PolhodeError(ValueError): ...
 class InertiaError(PolhodeError): ...
@@ -70,3 +77,22 @@ class MassProperties:
 def principal(
     inertia: NDArray[np.float64], rtol: float | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]: ...
+def simulate(
+    moments: NDArray[np.float64],
+    omega0: NDArray[np.float64],
+    quaternion0: NDArray[np.float64],
+    times: NDArray[np.float64],
+    *,
+    t0: float,
+    method: str,
+    dt: float | None,
+    order: int,
+    rtol: float,
+    atol: float | None,
+    torque: tuple[Any, ...] | None,
+    with_attitude: bool,
+    max_steps: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, NDArray[np.uint64]]: ...
+def free_rotation(
+    moments: tuple[float, float, float], omega0: tuple[float, float, float]
+) -> dict[str, Any]: ...

@@ -6,6 +6,7 @@
 mod convert;
 mod errors;
 mod mass;
+mod motion;
 
 /// The compiled core of polhode. Use the `polhode` package, not this module.
 #[pyo3::pymodule]
@@ -14,6 +15,9 @@ mod _core {
 
     #[pymodule_export]
     use crate::mass::{principal, PyMassProperties};
+
+    #[pymodule_export]
+    use crate::motion::{free_rotation, simulate};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

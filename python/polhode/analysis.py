@@ -1,0 +1,133 @@
+"""Understanding a torque-free motion: regime, periods, precession and axis stability."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polhode import _core
+from polhode.simulation import _as_float_array, _resolve_body
+
+__all__ = ["Analysis", "analyze"]
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """What can be said of a torque-free motion without integrating it.
+
+    Attributes
+    ----------
+    moments : (3,) numpy.ndarray
+        Principal moments, ascending (I1 <= I2 <= I3).
+    omega : (3,) numpy.ndarray
+        The initial angular velocity in those principal axes.
+    energy : float
+        Kinetic energy T.
+    angular_momentum : float
+        |L|.
+    regime : str
+        ``"rest"``; ``"spherical"``; ``"symmetric"`` (two equal moments); ``"about_axis_1"`` or
+        ``"about_axis_3"`` (L circulates in the body about the axis of the smallest or largest
+        moment: L^2 < 2 T I2 or L^2 > 2 T I2); ``"separatrix"`` (L^2 = 2 T I2: one flip,
+        taking forever); ``"steady_intermediate"`` (rotation about the intermediate axis,
+        unstable).
+    period : float or None
+        Period of the angular velocity in the body, 4 K(m) / lambda (2 pi / |Omega| for a
+        symmetric top); None when the motion is not periodic.
+    flip_interval : float or None
+        Time between successive sign changes of the intermediate component (the tennis-racket
+        flips): half the period. None for symmetric, steady or separatrix motion.
+    precession_rate : float or None
+        For a symmetric top, the body-frame precession rate of omega about the symmetry axis
+        ``Omega = w_s (I_s - I_t) / I_t``.
+    axis_stability : tuple of str
+        For each principal axis, ``"stable"`` (smallest or largest moment), ``"unstable"``
+        (intermediate) or ``"neutral"`` (a moment shared with another axis).
+    linearized : dict
+        Rotation near the axis closest to omega: ``axis`` (0, 1, 2), ``kind``
+        (``"oscillation"`` or ``"growth"``) and ``rate``: with the axis a rotation rate w and
+        the other two moments Ia, Ib, Omega_a = w (I - Ib)/Ia and Omega_b = w (I - Ia)/Ib;
+        oscillation at sqrt(Omega_a Omega_b) when they share a sign, exponential growth at
+        sqrt(-Omega_a Omega_b) otherwise.
+    """
+
+    moments: NDArray[np.float64]
+    omega: NDArray[np.float64]
+    energy: float
+    angular_momentum: float
+    regime: str
+    period: float | None
+    flip_interval: float | None
+    precession_rate: float | None
+    axis_stability: tuple[str, str, str]
+    linearized: dict[str, Any] = field(default_factory=dict)
+
+
+def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
+    """Regime, period, flip interval, precession and axis stability of a torque-free motion.
+
+    ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes. Moments
+    within ``rtol`` (the principal-axes tolerance) count as equal.
+    """
+    moments, axes, batch = _resolve_body(body, None)
+    if batch:
+        raise _core.PolhodeError("Expected a single `body` for analyze, got a batch.")
+    moments = moments[0]
+    omega_body = _as_float_array("omega0", omega0)
+    if omega_body.shape != (3,):
+        raise _core.PolhodeError(f"Expected `omega0` to have shape (3,), got {omega_body.shape}.")
+    if not np.all(np.isfinite(omega_body)):
+        raise _core.PolhodeError(f"Expected `omega0` to be finite, got {omega_body.tolist()}.")
+    if np.any(moments <= 0):
+        raise _core.PolhodeError("Expected `body` to have positive principal moments.")
+    order = np.argsort(moments, kind="stable")
+    moments = moments[order]
+    omega = (omega_body @ axes)[order]
+    info = _core.free_rotation(tuple(moments), tuple(omega))
+    regime = info["regime"]
+    if regime == "about_axis":
+        regime = f"about_axis_{info['axis'] + 1}"
+    period = info["period"]
+    flip = period / 2 if regime.startswith("about_axis") and period is not None else None
+    precession = None
+    scale = float(np.max(moments))
+    tolerance = (8 * np.finfo(float).eps if rtol is None else rtol) * scale
+    equal = [abs(moments[1] - moments[0]) <= tolerance, abs(moments[2] - moments[1]) <= tolerance]
+    if regime == "symmetric" or (equal[0] != equal[1]):
+        s = 2 if equal[0] else 0  # the symmetry axis: the distinct moment
+        t = 1
+        precession = float(omega[s] * (moments[s] - moments[t]) / moments[t])
+    if equal[0] and equal[1]:
+        stability: tuple[str, str, str] = ("neutral", "neutral", "neutral")
+    elif equal[0]:
+        stability = ("neutral", "neutral", "stable")
+    elif equal[1]:
+        stability = ("stable", "neutral", "neutral")
+    else:
+        stability = ("stable", "unstable", "stable")
+    k = int(np.argmax(np.abs(omega)))
+    a, b = [j for j in range(3) if j != k]
+    w = float(omega[k])
+    omega_a = w * (moments[k] - moments[b]) / moments[a]
+    omega_b = w * (moments[k] - moments[a]) / moments[b]
+    product = omega_a * omega_b
+    linearized = {
+        "axis": k,
+        "kind": "oscillation" if product >= 0 else "growth",
+        "rate": float(np.sqrt(abs(product))),
+    }
+    return Analysis(
+        moments=moments,
+        omega=omega,
+        energy=float(info["energy"]),
+        angular_momentum=float(info["angular_momentum_norm"]),
+        regime=regime,
+        period=period,
+        flip_interval=flip,
+        precession_rate=precession,
+        axis_stability=stability,
+        linearized=linearized,
+    )
