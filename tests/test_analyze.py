@@ -1,0 +1,368 @@
+"""polhode.analyze against independent references.
+
+- energy and |L| against exact rational arithmetic;
+- the period 4 K(m) / lambda against mpmath (m and lambda formed exactly from the binary inputs
+  with fractions, K at 80 digits), cross-checked with the Taylor reference's constants;
+- the flip interval against the sign changes of the intermediate component in a scipy
+  integration (DOP853, rtol 1e-12, event location);
+- the symmetric-top precession rate, and the linearised oscillation frequency / growth rate near
+  each axis, against scipy integrations of a small perturbation.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from fractions import Fraction
+
+import mpmath as mp
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.spatial.transform import Rotation
+
+import polhode as ph
+from reference_motion import motion_constants
+
+EPS = float(np.finfo(float).eps)
+
+
+def _mpf(x: Fraction):
+    return mp.mpf(x.numerator) / x.denominator
+
+
+def exact_invariants(moments, omega):
+    i = [Fraction(float(x)) for x in moments]
+    w = [Fraction(float(x)) for x in omega]
+    m = [a * b for a, b in zip(i, w, strict=True)]
+    g2 = sum(x * x for x in m)
+    t2 = sum(a * b for a, b in zip(m, w, strict=True))
+    return i, w, g2, t2
+
+
+def exact_period(moments, omega):
+    """4 K(m) / lambda, every quantity formed exactly (NUMERICS.md, both regimes)."""
+    i, _, g2, t2 = exact_invariants(moments, omega)
+    i1, i2, i3 = sorted(i)
+    d1, d2, d3 = g2 - t2 * i1, g2 - t2 * i2, g2 - t2 * i3
+    if d2 > 0:  # about axis 3
+        k2 = (i2 - i1) * (-d3) / ((i3 - i2) * d1)
+        lam2 = d1 * (i3 - i2) / (i1 * i2 * i3)
+    else:  # about axis 1
+        k2 = (i3 - i2) * d1 / ((i2 - i1) * (-d3))
+        lam2 = (-d3) * (i2 - i1) / (i1 * i2 * i3)
+    # K(m) near m = 1 costs log10(1 / (1 - m)) digits (up to 25 here): 80 digits
+    with mp.workdps(80):
+        return 4 * mp.ellipk(_mpf(k2)) / mp.sqrt(_mpf(lam2))
+
+
+def qmul(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return np.array(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    )
+
+
+def euler_rhs(moments):
+    i1, i2, i3 = moments
+
+    def f(t, w):
+        return [
+            (i2 - i3) / i1 * w[1] * w[2],
+            (i3 - i1) / i2 * w[2] * w[0],
+            (i1 - i2) / i3 * w[0] * w[1],
+        ]
+
+    return f
+
+
+# ---------------------------------------------------------------------------------------------
+# Energy, |L|, regime, stability
+# ---------------------------------------------------------------------------------------------
+
+GENERAL = [
+    ("I=(1,2,3) about 3", (1.0, 2.0, 3.0), (0.3, -0.5, 0.8), "about_axis_3"),
+    ("I=(1,2,3) about 1", (1.0, 2.0, 3.0), (0.9, 0.2, -0.1), "about_axis_1"),
+    ("unsorted (3,1,2)", (3.0, 1.0, 2.0), (-0.2, 0.7, 0.4), None),
+    (
+        "HLW (2,1,2/3)",
+        (2.0, 1.0, 2.0 / 3.0),
+        (math.cos(1.1) / 2, 0.0, math.sin(1.1) * 1.5),
+        "about_axis_1",
+    ),
+    ("Krogh (151,49,200)", (151.0, 49.0, 200.0), (0.0, -1.0, -1.0), "about_axis_3"),
+    ("flip eps=1e-2", (3.0, 5.0, 9.0), (0.0, 0.4, 0.01 / 9), "about_axis_3"),
+    ("flip eps=1e-6", (3.0, 5.0, 9.0), (0.0, 0.4, 1e-6 / 9), "about_axis_3"),
+    ("flip eps=1e-12", (3.0, 5.0, 9.0), (0.0, 0.4, 1e-12 / 9), "about_axis_3"),
+    ("near separatrix +1e-6", (2.0, 3.0, 6.0), (0.375, 0.5, 0.125 * (1 + 1e-6)), "about_axis_3"),
+    ("near separatrix +1e-12", (2.0, 3.0, 6.0), (0.375, 0.5, 0.125 * (1 + 1e-12)), "about_axis_3"),
+    ("near separatrix -1e-12", (2.0, 3.0, 6.0), (0.375, 0.5, 0.125 * (1 - 1e-12)), "about_axis_1"),
+    ("near symmetric 1+1e-8", (1.0, 1.0 + 1e-8, 2.0), (0.3, 0.4, 0.5), "about_axis_3"),
+    ("thin rod", (6.58e-6, 1.7231e-4, 1.7243e-4), (50.0, 2.0, 1.0), "about_axis_1"),
+    ("flat (1,0.75,0.25)", (1.0, 0.75, 0.25), (1.0, 0.01, 0.01), "about_axis_3"),
+]
+GENERAL_IDS = [g[0] for g in GENERAL]
+
+
+@pytest.mark.parametrize(("label", "moments", "omega", "regime"), GENERAL, ids=GENERAL_IDS)
+def test_energy_and_angular_momentum(label, moments, omega, regime):
+    a = ph.analyze(moments, omega)
+    _, _, g2, t2 = exact_invariants(moments, omega)
+    energy = float(t2 / 2)
+    norm = float(mp.sqrt(_mpf(g2)))
+    assert abs(a.energy - energy) <= 4 * EPS * energy, (a.energy, energy)
+    assert abs(a.angular_momentum - norm) <= 4 * EPS * norm, (a.angular_momentum, norm)
+    assert np.all(np.diff(a.moments) >= 0)
+    np.testing.assert_array_equal(np.sort(moments), a.moments)
+    assert a.axis_stability == ("stable", "unstable", "stable")
+
+
+@pytest.mark.parametrize(("label", "moments", "omega", "regime"), GENERAL, ids=GENERAL_IDS)
+def test_regime_from_the_sign_of_delta2(label, moments, omega, regime):
+    i, _, g2, t2 = exact_invariants(moments, omega)
+    d2 = g2 - t2 * sorted(i)[1]
+    expected = "about_axis_3" if d2 > 0 else "about_axis_1"
+    assert regime in (None, expected)
+    assert ph.analyze(moments, omega).regime == expected
+
+
+@pytest.mark.parametrize(("label", "moments", "omega", "regime"), GENERAL, ids=GENERAL_IDS)
+def test_period_against_mpmath(label, moments, omega, regime):
+    a = ph.analyze(moments, omega)
+    p = exact_period(moments, omega)
+    with mp.workdps(80):
+        c = motion_constants(moments, omega)  # the Taylor reference's own closed form
+        assert abs(c["period"] - p) <= mp.mpf(10) ** -30 * p
+    err = abs(a.period - float(p)) / float(p)
+    assert err <= 1e-14, f"{label}: period {a.period!r}, mpmath {mp.nstr(p, 20)}: rel {err:.2e}"
+    assert a.flip_interval == pytest.approx(a.period / 2, rel=4 * EPS)
+
+
+SPECIAL = [
+    (
+        "separatrix",
+        (2.0, 3.0, 6.0),
+        (0.375, 0.5, 0.125),
+        "separatrix",
+        ("stable", "unstable", "stable"),
+    ),
+    (
+        "separatrix other sign",
+        (2.0, 3.0, 6.0),
+        (-0.375, 0.5, 0.125),
+        "separatrix",
+        ("stable", "unstable", "stable"),
+    ),
+    (
+        "steady intermediate",
+        (1.0, 2.0, 3.0),
+        (0.0, 0.7, 0.0),
+        "steady_intermediate",
+        ("stable", "unstable", "stable"),
+    ),
+    ("rest", (1.0, 2.0, 3.0), (0.0, 0.0, 0.0), "rest", ("stable", "unstable", "stable")),
+    (
+        "oblate symmetric",
+        (2.0, 2.0, 3.0),
+        (0.3, -0.4, 0.5),
+        "symmetric",
+        ("neutral", "neutral", "stable"),
+    ),
+    (
+        "prolate symmetric",
+        (2.0, 3.0, 3.0),
+        (0.5, 0.3, -0.4),
+        "symmetric",
+        ("stable", "neutral", "neutral"),
+    ),
+    ("sphere", (1.0, 1.0, 1.0), (0.3, -0.4, 0.5), "spherical", ("neutral", "neutral", "neutral")),
+]
+
+
+@pytest.mark.parametrize(
+    ("label", "moments", "omega", "regime", "stability"), SPECIAL, ids=[s[0] for s in SPECIAL]
+)
+def test_special_regimes(label, moments, omega, regime, stability):
+    a = ph.analyze(moments, omega)
+    assert a.regime == regime
+    assert a.axis_stability == stability
+    if regime in ("separatrix", "steady_intermediate", "rest", "spherical"):
+        assert a.period is None and a.flip_interval is None
+    if regime == "separatrix":
+        i, _, g2, t2 = exact_invariants(moments, omega)
+        assert g2 == t2 * sorted(i)[1]
+    _, _, g2, t2 = exact_invariants(moments, omega)
+    assert abs(a.energy - float(t2 / 2)) <= 4 * EPS * float(t2 / 2)
+
+
+def test_body_in_non_principal_axes():
+    """A rotated box: analysed in its (ascending) principal axes."""
+    body = ph.Body.box(2.0, (1.0, 2.0, 3.0)).rotated(Rotation.from_rotvec([0.3, -0.5, 0.7]))
+    omega = np.array([0.4, -0.9, 0.25])
+    a = ph.analyze(body, omega)
+    inertia = body.inertia
+    energy = 0.5 * omega @ inertia @ omega
+    norm = np.linalg.norm(inertia @ omega)
+    assert abs(a.energy - energy) <= 1e-14 * energy
+    assert abs(a.angular_momentum - norm) <= 1e-14 * norm
+    np.testing.assert_allclose(a.moments, np.linalg.eigvalsh(inertia), rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(a.omega), np.linalg.norm(omega), rtol=1e-14)
+    # the period from the principal moments and the principal-axes omega
+    np.testing.assert_allclose(0.5 * np.sum(a.moments * a.omega**2), energy, rtol=1e-14)
+    p = exact_period(a.moments, a.omega)
+    assert abs(a.period - float(p)) <= 1e-13 * float(p)
+
+
+# ---------------------------------------------------------------------------------------------
+# Flip interval observed in an independent integration
+# ---------------------------------------------------------------------------------------------
+
+
+@functools.cache
+def _crossings(moments, omega, component, t_end):
+    event = lambda t, w: w[component]  # noqa: E731
+    sol = solve_ivp(
+        euler_rhs(moments),
+        (0.0, t_end),
+        omega,
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14 * max(abs(x) for x in omega),
+        events=event,
+    )
+    return sol.t_events[0]
+
+
+FLIPS = [GENERAL[0], GENERAL[1], GENERAL[3], GENERAL[5], GENERAL[2]]
+
+
+@pytest.mark.parametrize(("label", "moments", "omega", "regime"), FLIPS, ids=[f[0] for f in FLIPS])
+def test_flip_interval_observed(label, moments, omega, regime):
+    a = ph.analyze(moments, omega)
+    mid = int(np.argsort(moments)[1])
+    crossings = _crossings(tuple(moments), tuple(omega), mid, 2.6 * a.period)
+    gaps = np.diff(crossings[crossings > 1e-9 * a.period])  # a start on a crossing: no gap
+    assert len(gaps) >= 4, crossings
+    assert np.max(np.abs(gaps - a.flip_interval)) <= 1e-8 * a.flip_interval, (gaps, a.flip_interval)
+
+
+# ---------------------------------------------------------------------------------------------
+# Symmetric top: the precession rate of omega in the body
+# ---------------------------------------------------------------------------------------------
+
+SYMMETRIC = [
+    ("oblate (2,2,3)", (2.0, 2.0, 3.0), (0.3, -0.4, 0.5), 2),
+    ("prolate (2,3,3)", (2.0, 3.0, 3.0), (0.5, 0.3, -0.4), 0),
+    ("oblate, spin negative", (2.0, 2.0, 3.0), (0.3, -0.4, -0.5), 2),
+    ("unsorted (3,2,2)", (3.0, 2.0, 2.0), (0.5, 0.3, -0.4), 0),
+]
+
+
+@pytest.mark.parametrize(
+    ("label", "moments", "omega", "s"), SYMMETRIC, ids=[s[0] for s in SYMMETRIC]
+)
+def test_symmetric_precession_rate(label, moments, omega, s):
+    a = ph.analyze(moments, omega)
+    assert a.regime == "symmetric"
+    it = moments[(s + 1) % 3]
+    expected = omega[s] * (moments[s] - it) / it  # Omega = w_s (I_s - I_t) / I_t
+    assert a.precession_rate == pytest.approx(expected, rel=4 * EPS)
+    # observed: the angle of (w_a, w_b), (s, a, b) cyclic, turns at Omega
+    t_end = 30.0
+    times = np.linspace(0.0, t_end, 601)
+    sol = solve_ivp(
+        euler_rhs(moments),
+        (0.0, t_end),
+        omega,
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+        t_eval=times,
+    )
+    wa, wb = sol.y[(s + 1) % 3], sol.y[(s + 2) % 3]
+    angle = np.unwrap(np.arctan2(wb, wa))
+    rate = (angle[-1] - angle[0]) / t_end
+    assert abs(rate - a.precession_rate) <= 1e-9 * abs(rate), (rate, a.precession_rate)
+    assert a.period == pytest.approx(2 * math.pi / abs(expected), rel=1e-14)
+
+
+# ---------------------------------------------------------------------------------------------
+# Linearised motion near each axis
+# ---------------------------------------------------------------------------------------------
+
+
+def test_linearized_oscillation_near_the_largest_axis():
+    moments = (1.0, 2.0, 3.0)
+    eps = 1e-6
+    omega = (eps, eps, 1.0)
+    a = ph.analyze(moments, omega)
+    lin = a.linearized
+    assert lin["axis"] == 2 and lin["kind"] == "oscillation"
+    omega1 = omega[2] * (moments[2] - moments[1]) / moments[0]
+    omega2 = omega[2] * (moments[2] - moments[0]) / moments[1]
+    assert lin["rate"] == pytest.approx(math.sqrt(omega1 * omega2), rel=4 * EPS)
+    crossings = _crossings(moments, omega, 0, 40.0)
+    observed = math.pi / np.mean(np.diff(crossings))
+    assert abs(observed - lin["rate"]) <= 1e-7 * lin["rate"], (observed, lin["rate"])
+    # and the exact period agrees with the linear one to O(eps^2)
+    assert abs(a.period - 2 * math.pi / lin["rate"]) <= 1e-9 * a.period
+
+
+def test_linearized_oscillation_near_the_smallest_axis():
+    moments = (1.0, 2.0, 3.0)
+    eps = 1e-6
+    omega = (-1.5, eps, -eps)
+    lin = ph.analyze(moments, omega).linearized
+    assert lin["axis"] == 0 and lin["kind"] == "oscillation"
+    w = omega[0]
+    expected = math.sqrt(
+        (w * (moments[0] - moments[2]) / moments[1]) * (w * (moments[0] - moments[1]) / moments[2])
+    )
+    assert lin["rate"] == pytest.approx(expected, rel=4 * EPS)
+    crossings = _crossings(moments, omega, 1, 40.0)
+    observed = math.pi / np.mean(np.diff(crossings))
+    assert abs(observed - lin["rate"]) <= 1e-7 * lin["rate"], (observed, lin["rate"])
+
+
+@pytest.mark.parametrize("w2", [1.0, -0.7])
+def test_linearized_growth_near_the_intermediate_axis(w2):
+    moments = (1.0, 2.0, 3.0)
+    # w1' = -A w3, w3' = -B w1 with A = w2 (I3 - I2)/I1, B = w2 (I2 - I1)/I3: growth sqrt(A B)
+    # along the unstable eigenvector w3 = -s w1 / A
+    big_a = w2 * (moments[2] - moments[1]) / moments[0]
+    big_b = w2 * (moments[1] - moments[0]) / moments[2]
+    s = math.sqrt(big_a * big_b)
+    eps = 1e-9 * abs(w2)
+    omega = (eps, w2, -s * eps / big_a)
+    lin = ph.analyze(moments, omega).linearized
+    assert lin["axis"] == 1 and lin["kind"] == "growth"
+    assert lin["rate"] == pytest.approx(s, rel=4 * EPS)
+    t_end = math.log(1e3) / s  # grows 1000-fold, still linear (1e-6 of w2)
+    sol = solve_ivp(
+        euler_rhs(moments), (0.0, t_end), omega, method="DOP853", rtol=1e-13, atol=1e-22
+    )
+    observed = math.log(abs(sol.y[0, -1]) / eps) / t_end
+    assert abs(observed - lin["rate"]) <= 1e-6 * lin["rate"], (observed, lin["rate"])
+    assert ph.analyze(moments, omega).regime in ("about_axis_1", "about_axis_3")
+
+
+def test_linearized_uses_the_principal_axes_of_a_rotated_body():
+    """A box turned by 90 degrees about z: its x spin is a spin about a principal axis."""
+    box = ph.Body.box(1.0, (1.0, 2.0, 3.0))  # moments (13, 10, 5)/12 about x, y, z
+    turned = box.rotated(Rotation.from_rotvec([0.0, 0.0, np.pi / 2]))
+    omega_body = turned.inertia  # use the body frame: spin about the axis of the largest moment
+    k = int(np.argmax(np.diag(omega_body)))
+    spin = np.zeros(3)
+    spin[k] = 2.0
+    a = ph.analyze(turned, spin)
+    assert a.linearized["axis"] == 2 and a.linearized["kind"] == "oscillation"
+    m = np.array([5.0, 10.0, 13.0]) / 12
+    np.testing.assert_allclose(a.moments, m, rtol=1e-14)
+    expected = 2.0 * math.sqrt((m[2] - m[1]) / m[0] * (m[2] - m[0]) / m[1])
+    assert a.linearized["rate"] == pytest.approx(expected, rel=1e-13)

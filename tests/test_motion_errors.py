@@ -1,0 +1,584 @@
+"""Bad input to simulate / analyze / the torque models raises at once, typed, naming the argument.
+
+ValueError subclasses (polhode.PolhodeError) for shapes, non-finite numbers, non-positive values
+and unknown options; TypeError for wrong types; a callable torque that raises propagates its own
+exception. Never a panic (pyo3's PanicException is a BaseException), a hang, or a silent NaN.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import polhode as ph
+
+NAN, INF = math.nan, math.inf
+MOMENTS = (1.0, 2.0, 3.0)
+W = (0.1, 0.2, 0.3)
+FIXED = ["splitting", "midpoint", "rk4"]
+ALL = ["exact", "splitting", "midpoint", "rk4", "dop853"]
+ZERO = ph.torque.Function(lambda t, w, q: (0.0, 0.0, 0.0))
+
+
+def raises(kind, fragment, call):
+    """call() raises exactly `kind` (not a panic) with `fragment` in the message."""
+    with pytest.raises(BaseException) as info:  # noqa: B017, PT011 - the type is checked below
+        call()
+    error = info.value
+    assert isinstance(error, kind), f"expected {kind}, got {type(error).__name__}: {error}"
+    assert isinstance(error, Exception), f"not an Exception (a panic?): {error!r}"
+    message = str(error)
+    fragments = fragment if isinstance(fragment, tuple) else (fragment,)
+    assert any(f in message for f in fragments), f"message does not name {fragments}: {message!r}"
+    return error
+
+
+def test_polhode_error_is_a_value_error():
+    assert issubclass(ph.PolhodeError, ValueError)
+
+
+# ---------------------------------------------------------------------------------------------
+# omega0
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", ALL)
+@pytest.mark.parametrize(
+    "bad", [(NAN, 0.0, 0.0), (0.0, INF, 0.0), (0.0, 0.0, -INF)], ids=["nan", "inf", "-inf"]
+)
+def test_omega0_not_finite(method, bad):
+    raises(ph.PolhodeError, "omega0", lambda: ph.simulate(MOMENTS, bad, 1.0, method=method, dt=0.1))
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [(1.0, 2.0), (1.0, 2.0, 3.0, 4.0), np.zeros((2, 2, 3)), np.zeros((2, 4)), 1.0],
+    ids=["(2,)", "(4,)", "(2,2,3)", "(2,4)", "scalar"],
+)
+def test_omega0_wrong_shape(bad):
+    raises(ph.PolhodeError, "omega0", lambda: ph.simulate(MOMENTS, bad, 1.0))
+
+
+def test_omega0_batch_mismatch():
+    moments = np.array([[1.0, 2.0, 3.0], [1.0, 2.0, 2.5]])
+    raises(ph.PolhodeError, "omega0", lambda: ph.simulate(moments, np.ones((3, 3)), 1.0))
+
+
+@pytest.mark.parametrize(
+    "bad",
+    ["abc", None, {"x": 1}, np.array([1, "a", 3], dtype=object)],
+    ids=["str", "None", "dict", "object-array"],
+)
+def test_omega0_wrong_type(bad):
+    raises(TypeError, "omega0", lambda: ph.simulate(MOMENTS, bad, 1.0))
+
+
+# ---------------------------------------------------------------------------------------------
+# dt, method, order, tolerances, max_steps
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", FIXED)
+@pytest.mark.parametrize("dt", [0.0, -0.1, NAN, INF, -INF])
+def test_dt_not_positive_or_not_finite(method, dt):
+    raises(ph.PolhodeError, "dt", lambda: ph.simulate(MOMENTS, W, 1.0, method=method, dt=dt))
+
+
+@pytest.mark.parametrize("method", FIXED)
+def test_dt_missing_for_a_fixed_step_method(method):
+    raises(ph.PolhodeError, ("dt", method), lambda: ph.simulate(MOMENTS, W, 1.0, method=method))
+
+
+@pytest.mark.parametrize("dt", ["0.1", [0.1]], ids=["str", "list"])
+def test_dt_wrong_type(dt):
+    raises(TypeError, "dt", lambda: ph.simulate(MOMENTS, W, 1.0, method="rk4", dt=dt))
+
+
+@pytest.mark.parametrize("method", ["euler", "RK4", "", "dop54"])
+def test_unknown_method(method):
+    raises(
+        ph.PolhodeError,
+        ("method", repr(method)),
+        lambda: ph.simulate(MOMENTS, W, 1.0, method=method),
+    )
+
+
+@pytest.mark.parametrize("method", [3, None], ids=["int", "None"])
+def test_method_wrong_type(method):
+    raises(TypeError, "method", lambda: ph.simulate(MOMENTS, W, 1.0, method=method, dt=0.1))
+
+
+@pytest.mark.parametrize("order", [1, 3, 8, 0, -2])
+def test_splitting_order_not_2_4_6(order):
+    raises(
+        ph.PolhodeError,
+        "order",
+        lambda: ph.simulate(MOMENTS, W, 1.0, method="splitting", dt=0.1, order=order),
+    )
+
+
+def test_splitting_order_wrong_type():
+    raises(
+        TypeError,
+        "order",
+        lambda: ph.simulate(MOMENTS, W, 1.0, method="splitting", dt=0.1, order="four"),
+    )
+
+
+def test_splitting_order_not_an_integer():
+    """4.5 must not be silently truncated to 4."""
+    raises(
+        (TypeError, ph.PolhodeError),
+        "order",
+        lambda: ph.simulate(MOMENTS, W, 1.0, method="splitting", dt=0.1, order=4.5),
+    )
+
+
+@pytest.mark.parametrize(
+    ("name", "kw"),
+    [
+        ("rtol", {"rtol": 0.0}),
+        ("rtol", {"rtol": -1e-8}),
+        ("rtol", {"rtol": NAN}),
+        ("rtol", {"rtol": 1e-20}),
+        ("atol", {"atol": 0.0}),
+        ("atol", {"atol": -1.0}),
+        ("atol", {"atol": INF}),
+    ],
+)
+def test_dop853_tolerances(name, kw):
+    raises(ph.PolhodeError, name, lambda: ph.simulate(MOMENTS, W, 1.0, method="dop853", **kw))
+
+
+def test_rtol_wrong_type():
+    raises(TypeError, "rtol", lambda: ph.simulate(MOMENTS, W, 1.0, method="dop853", rtol="tight"))
+
+
+@pytest.mark.parametrize("method", FIXED)
+def test_too_many_fixed_steps_fail_before_integrating(method):
+    raises(
+        ph.PolhodeError,
+        "max_steps",
+        lambda: ph.simulate(MOMENTS, W, 1e3, method=method, dt=1e-3, max_steps=1000),
+    )
+
+
+def test_too_many_adaptive_steps():
+    raises(
+        (RuntimeError, ph.PolhodeError),
+        "max_steps",
+        lambda: ph.simulate(MOMENTS, W, 1e4, method="dop853", rtol=1e-12, max_steps=10),
+    )
+
+
+@pytest.mark.parametrize("max_steps", [0, -1])
+def test_max_steps_not_positive(max_steps):
+    raises(
+        ph.PolhodeError,
+        "max_steps",
+        lambda: ph.simulate(MOMENTS, W, 1.0, method="rk4", dt=0.1, max_steps=max_steps),
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# Output times and t0
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", ALL)
+def test_decreasing_times(method):
+    raises(
+        ph.PolhodeError,
+        "t",
+        lambda: ph.simulate(MOMENTS, W, [0.0, 2.0, 1.0], method=method, dt=0.1),
+    )
+
+
+@pytest.mark.parametrize("method", ALL)
+def test_times_before_t0(method):
+    raises(
+        ph.PolhodeError,
+        ("t0", "t"),
+        lambda: ph.simulate(MOMENTS, W, [0.5, 1.0], t0=1.0, method=method, dt=0.1),
+    )
+
+
+def test_end_time_before_t0():
+    raises(ph.PolhodeError, "t", lambda: ph.simulate(MOMENTS, W, -1.0))
+
+
+@pytest.mark.parametrize(
+    "times", [[0.0, NAN], [0.0, INF], INF, NAN], ids=["nan", "inf", "end-inf", "end-nan"]
+)
+def test_times_not_finite(times):
+    raises(ph.PolhodeError, "t", lambda: ph.simulate(MOMENTS, W, times))
+
+
+@pytest.mark.parametrize("times", [[[0.0, 1.0]], []], ids=["2d", "empty"])
+def test_times_wrong_shape(times):
+    raises(ph.PolhodeError, "t", lambda: ph.simulate(MOMENTS, W, times))
+
+
+@pytest.mark.parametrize("times", ["abc", None], ids=["str", "None"])
+def test_times_wrong_type(times):
+    raises(TypeError, "t", lambda: ph.simulate(MOMENTS, W, times))
+
+
+@pytest.mark.parametrize("t0", [NAN, INF, -INF])
+def test_t0_not_finite(t0):
+    raises(ph.PolhodeError, "t0", lambda: ph.simulate(MOMENTS, W, [1.0, 2.0], t0=t0))
+
+
+def test_t0_wrong_type():
+    raises(TypeError, "t0", lambda: ph.simulate(MOMENTS, W, 1.0, t0="now"))
+
+
+# ---------------------------------------------------------------------------------------------
+# Bodies and orientation0
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", ["auto", *ALL])
+def test_rod_is_singular_for_every_method(method):
+    rod = ph.Body.rod(1.0, 2.0)
+    raises(
+        ph.PolhodeError, ("body", "moment"), lambda: ph.simulate(rod, W, 1.0, method=method, dt=0.1)
+    )
+
+
+@pytest.mark.parametrize(
+    "moments",
+    [(0.0, 1.0, 1.0), (-1.0, 2.0, 3.0), (1.0, NAN, 3.0), (1.0, 2.0, INF)],
+    ids=["zero", "negative", "nan", "inf"],
+)
+def test_bad_moments(moments):
+    raises(ph.PolhodeError, "body", lambda: ph.simulate(moments, W, 1.0))
+
+
+def test_bad_moment_in_a_batch():
+    moments = np.array([[1.0, 2.0, 3.0], [1.0, 0.0, 3.0]])
+    raises(ph.PolhodeError, "body", lambda: ph.simulate(moments, W, 1.0, method="rk4", dt=0.1))
+
+
+@pytest.mark.parametrize(
+    "body", [(1.0, 2.0), np.ones((2, 2)), np.ones((2, 3, 3))], ids=["(2,)", "(2,2)", "(2,3,3)"]
+)
+def test_body_wrong_shape(body):
+    raises(ph.PolhodeError, "body", lambda: ph.simulate(body, W, 1.0))
+
+
+@pytest.mark.parametrize("body", ["box", None], ids=["str", "None"])
+def test_body_wrong_type(body):
+    raises(TypeError, "body", lambda: ph.simulate(body, W, 1.0))
+
+
+@pytest.mark.parametrize(
+    "orientation0",
+    [(1.0, 2.0), (0.0, 0.0, 0.0, 0.0), (NAN, 0, 0, 1), np.ones((3, 3)), np.diag([1.0, 1.0, -1.0])],
+    ids=["(2,)", "zero-quaternion", "nan", "singular-matrix", "reflection"],
+)
+def test_bad_orientation0(orientation0):
+    raises(
+        ph.PolhodeError,
+        "orientation0",
+        lambda: ph.simulate(MOMENTS, W, 1.0, orientation0=orientation0),
+    )
+
+
+def test_orientation0_count_mismatch():
+    moments = np.array([[1.0, 2.0, 3.0], [1.0, 2.0, 2.5]])
+    q = np.tile([0.0, 0.0, 0.0, 1.0], (3, 1))
+    raises(ph.PolhodeError, "orientation0", lambda: ph.simulate(moments, W, 1.0, orientation0=q))
+
+
+# ---------------------------------------------------------------------------------------------
+# Torques: models, exact with a torque, callables
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "torque",
+    [ph.torque.BodyFixed((0.0, 0.0, 1.0)), ZERO, lambda t, w, q: (0.0, 0.0, 0.0)],
+    ids=["model", "Function", "callable"],
+)
+def test_exact_with_a_torque(torque):
+    raises(
+        ph.PolhodeError,
+        ("torque", "exact"),
+        lambda: ph.simulate(MOMENTS, W, 1.0, method="exact", torque=torque),
+    )
+
+
+@pytest.mark.parametrize(
+    "torque", [3, "gravity", (0.0, 0.0, 1.0), np.zeros(3)], ids=["int", "str", "tuple", "array"]
+)
+def test_torque_wrong_type(torque):
+    raises(TypeError, "torque", lambda: ph.simulate(MOMENTS, W, 1.0, torque=torque))
+
+
+BAD_MODELS = [
+    ("BodyFixed-shape", lambda: ph.torque.BodyFixed((1.0, 2.0)), ph.PolhodeError, "torque"),
+    (
+        "BodyFixed-nan",
+        lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.BodyFixed((NAN, 0, 0))),
+        ph.PolhodeError,
+        "torque",
+    ),
+    (
+        "SpaceFixed-inf",
+        lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.SpaceFixed((INF, 0, 0))),
+        ph.PolhodeError,
+        "torque",
+    ),
+    ("SpaceFixed-str", lambda: ph.torque.SpaceFixed("up"), TypeError, "torque"),
+    (
+        "Window-start-after-end",
+        lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.Window(ZERO, 2.0, 1.0)),
+        ph.PolhodeError,
+        ("start", "end"),
+    ),
+    (
+        "Window-nan",
+        lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.Window(ZERO, NAN, 1.0)),
+        ph.PolhodeError,
+        "start",
+    ),
+    ("Window-str", lambda: ph.torque.Window(ZERO, "soon", 1.0), TypeError, "start"),
+    ("Window-not-a-torque", lambda: ph.torque.Window(3, 0.0, 1.0), TypeError, "torque"),
+    ("Function-not-callable", lambda: ph.torque.Function(3), TypeError, "torque"),
+    (
+        "Function-discontinuities",
+        lambda: ph.torque.Function(lambda t, w, q: (0, 0, 0), discontinuities=["a"]),
+        TypeError,
+        "discontinuities",
+    ),
+    ("Sum-not-a-torque", lambda: ph.torque.Sum([ZERO, 3]), TypeError, "torque"),
+    ("Gravity-shape", lambda: ph.torque.Gravity((0.0, -9.81)), ph.PolhodeError, "gravity"),
+    (
+        "Gravity-nan",
+        lambda: ph.simulate(
+            ph.Body.cone(1.0, 1.0, 1.0), W, 1.0, torque=ph.torque.Gravity((NAN, 0, 0))
+        ),
+        ph.PolhodeError,
+        "gravity",
+    ),
+    (
+        "Gravity-pivot-nan",
+        lambda: ph.simulate(
+            ph.Body.cone(1.0, 1.0, 1.0), W, 1.0, torque=ph.torque.Gravity(pivot=(NAN, 0, 0))
+        ),
+        ph.PolhodeError,
+        "pivot",
+    ),
+    (
+        "Gravity-moments-without-mass",
+        lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.Gravity()),
+        ph.PolhodeError,
+        "mass",
+    ),
+    (
+        "Gravity-mass-negative",
+        lambda: ph.simulate(
+            MOMENTS, W, 1.0, torque=ph.torque.Gravity(mass=-1.0, center_of_mass=(0, 0, 1))
+        ),
+        ph.PolhodeError,
+        "mass",
+    ),
+    (
+        "Gravity-mass-str",
+        lambda: ph.torque.Gravity(mass="heavy", center_of_mass=(0, 0, 1)),
+        TypeError,
+        "mass",
+    ),
+    (
+        "Gravity-com-nan",
+        lambda: ph.simulate(
+            MOMENTS, W, 1.0, torque=ph.torque.Gravity(mass=1.0, center_of_mass=(0, 0, NAN))
+        ),
+        ph.PolhodeError,
+        "center_of_mass",
+    ),
+    (
+        "GravityGradient-nan",
+        lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.GravityGradient(NAN)),
+        ph.PolhodeError,
+        "mean_motion",
+    ),
+    (
+        "GravityGradient-normal-zero",
+        lambda: ph.simulate(
+            MOMENTS, W, 1.0, torque=ph.torque.GravityGradient(1.0, orbit_normal=(0, 0, 0))
+        ),
+        ph.PolhodeError,
+        "orbit_normal",
+    ),
+    (
+        "GravityGradient-radial-parallel",
+        lambda: ph.simulate(
+            MOMENTS, W, 1.0, torque=ph.torque.GravityGradient(1.0, radial0=(0, 0, 2))
+        ),
+        ph.PolhodeError,
+        "radial0",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("label", "call", "kind", "name"), BAD_MODELS, ids=[b[0] for b in BAD_MODELS]
+)
+def test_bad_torque_model(label, call, kind, name):
+    raises(kind, name, call)
+
+
+def test_adding_a_non_torque():
+    with pytest.raises(TypeError):
+        ph.torque.BodyFixed((0.0, 0.0, 1.0)) + 3  # noqa: B018
+
+
+class Boom(RuntimeError):
+    """A user's own exception."""
+
+
+def _boom(t, w, q):
+    if t > 0.25:
+        raise Boom("kaboom at t > 0.25")
+    return (0.0, 0.0, 0.1)
+
+
+@pytest.mark.parametrize("method", ["dop853", *FIXED])
+def test_callable_that_raises_propagates(method):
+    with pytest.raises(Boom, match="kaboom"):
+        ph.simulate(MOMENTS, W, 1.0, method=method, dt=0.1, torque=_boom)
+
+
+def test_callable_that_raises_in_a_batch_propagates():
+    moments = np.array([[1.0, 2.0, 3.0], [1.5, 2.0, 3.0], [1.0, 2.5, 3.0], [1.0, 2.0, 2.5]])
+    with pytest.raises(Boom, match="kaboom"):
+        ph.simulate(moments, W, 1.0, method="rk4", dt=0.1, torque=_boom)
+
+
+def test_callable_that_raises_on_a_body_in_non_principal_axes():
+    from scipy.spatial.transform import Rotation
+
+    box = ph.Body.box(1.0, (1.0, 2.0, 3.0)).rotated(Rotation.from_rotvec([0.2, 0.3, 0.4]))
+    with pytest.raises(Boom, match="kaboom"):
+        ph.simulate(box, W, 1.0, method="dop853", torque=_boom)
+
+
+def test_callable_that_raises_inside_a_window_and_a_sum():
+    torque = ph.torque.Window(_boom, 0.0, 5.0) + ph.torque.BodyFixed((0.0, 0.0, 0.1))
+    with pytest.raises(Boom, match="kaboom"):
+        ph.simulate(MOMENTS, W, 1.0, method="rk4", dt=0.1, torque=torque)
+
+
+def test_callable_with_the_wrong_signature_propagates_its_type_error():
+    with pytest.raises(TypeError, match="positional argument"):
+        ph.simulate(MOMENTS, W, 1.0, torque=lambda t: (0.0, 0.0, 0.0))
+
+
+WRONG_SHAPES = [(0.0, 0.0), (0.0, 0.0, 0.0, 1.0), 1.0, np.zeros((2, 3))]
+
+
+@pytest.mark.parametrize("value", WRONG_SHAPES, ids=["(2,)", "(4,)", "scalar", "(2,3)"])
+def test_callable_returning_the_wrong_shape(value):
+    raises(
+        ph.PolhodeError,
+        "torque",
+        lambda: ph.simulate(MOMENTS, W, 1.0, method="rk4", dt=0.1, torque=lambda t, w, q: value),
+    )
+
+
+@pytest.mark.parametrize(
+    "value", [None, "abc", {"x": 1}, ["a", "b", "c"]], ids=["None", "str", "dict", "strs"]
+)
+def test_callable_returning_the_wrong_type(value):
+    raises(TypeError, "torque", lambda: ph.simulate(MOMENTS, W, 1.0, torque=lambda t, w, q: value))
+
+
+@pytest.mark.parametrize("method", ["dop853", *FIXED])
+@pytest.mark.parametrize("value", [NAN, INF], ids=["nan", "inf"])
+def test_callable_returning_non_finite(method, value):
+    raises(
+        ph.PolhodeError,
+        "torque",
+        lambda: ph.simulate(
+            MOMENTS, W, 1.0, method=method, dt=0.1, torque=lambda t, w, q: (value, 0.0, 0.0)
+        ),
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# No silent NaN
+# ---------------------------------------------------------------------------------------------
+
+
+def test_fixed_step_blow_up_is_an_error():
+    raises(
+        ph.PolhodeError,
+        ("blew up", "omega"),
+        lambda: ph.simulate(MOMENTS, (10.0, 20.0, 30.0), 1e4, method="rk4", dt=10.0),
+    )
+
+
+def _explosive(t, w, q):
+    with np.errstate(over="ignore", invalid="ignore"):
+        return 1e10 * np.asarray(w) * np.abs(w)
+
+
+@pytest.mark.parametrize("method", FIXED)
+def test_torque_blow_up_is_an_error(method):
+    """w' ~ 1e10 w|w| blows up in finite time: an error, not NaN in the output."""
+    raises(
+        (ph.PolhodeError, RuntimeError),
+        ("torque", "omega", "converge"),
+        lambda: ph.simulate(MOMENTS, W, [0.0, 10.0], method=method, dt=0.1, torque=_explosive),
+    )
+
+
+def test_adaptive_blow_up_is_an_error():
+    raises(
+        (RuntimeError, ph.PolhodeError),
+        ("dop853", "step", "torque"),
+        lambda: ph.simulate(MOMENTS, W, 10.0, method="dop853", torque=_explosive),
+    )
+
+
+@pytest.mark.parametrize("method", ALL)
+def test_results_are_finite_on_valid_input(method):
+    """Edge inputs that are valid: rest, a sphere, huge and tiny scales: finite results."""
+    for moments, omega0 in [
+        (MOMENTS, (0.0, 0.0, 0.0)),
+        ((1.0, 1.0, 1.0), W),
+        ((1e-30, 2e-30, 3e-30), W),
+        ((1e30, 2e30, 3e30), (1e-20, 0, 1e-20)),
+        (MOMENTS, (1e-150, 1e-150, 1e-150)),
+    ]:
+        sol = ph.simulate(moments, omega0, [0.0, 0.5, 1.0], method=method, dt=0.01)
+        for name in ("omega", "quaternion", "angular_momentum", "energy"):
+            assert np.all(np.isfinite(getattr(sol, name))), (method, moments, omega0, name)
+
+
+# ---------------------------------------------------------------------------------------------
+# analyze
+# ---------------------------------------------------------------------------------------------
+
+ANALYZE_ERRORS = [
+    ("batch", lambda: ph.analyze(np.ones((2, 3)), W), ph.PolhodeError, "body"),
+    ("omega-nan", lambda: ph.analyze(MOMENTS, (NAN, 0.0, 0.0)), ph.PolhodeError, "omega0"),
+    ("omega-shape", lambda: ph.analyze(MOMENTS, (1.0, 0.0)), ph.PolhodeError, "omega0"),
+    ("omega-batch", lambda: ph.analyze(MOMENTS, np.ones((2, 3))), ph.PolhodeError, "omega0"),
+    ("omega-str", lambda: ph.analyze(MOMENTS, "abc"), TypeError, "omega0"),
+    ("rod", lambda: ph.analyze(ph.Body.rod(1.0, 2.0), W), ph.PolhodeError, "body"),
+    ("zero-moment", lambda: ph.analyze((0.0, 1.0, 1.0), W), ph.PolhodeError, "body"),
+    ("body-str", lambda: ph.analyze("box", W), TypeError, "body"),
+    ("body-shape", lambda: ph.analyze((1.0, 2.0), W), ph.PolhodeError, "body"),
+]
+
+
+@pytest.mark.parametrize(
+    ("label", "call", "kind", "name"), ANALYZE_ERRORS, ids=[a[0] for a in ANALYZE_ERRORS]
+)
+def test_analyze_errors(label, call, kind, name):
+    raises(kind, name, call)
