@@ -325,23 +325,18 @@ def simulate(
     }
     if not batch:
         info.update({k: int(v[0]) for k, v in info.items() if isinstance(v, np.ndarray)})
-        return Trajectory(
-            t=times,
-            omega=omega_body[0],
-            quaternion=None if quaternion is None else quaternion[0],
-            angular_momentum=None if l_space is None else l_space[0],
-            angular_momentum_body=l_body[0],
-            energy=energy[0],
-            moments=moments[0],
-            stats=info,
-        )
+
+    def pick(array: Any) -> Any:
+        """A batch keeps its leading N; a single body drops it."""
+        return array if batch or array is None else array[0]
+
     return Trajectory(
         t=times,
-        omega=omega_body,
-        quaternion=quaternion,
-        angular_momentum=l_space,
-        angular_momentum_body=l_body,
-        energy=energy,
-        moments=moments,
+        omega=pick(omega_body),
+        quaternion=pick(quaternion),
+        angular_momentum=pick(l_space),
+        angular_momentum_body=pick(l_body),
+        energy=pick(energy),
+        moments=pick(moments),
         stats=info,
     )
