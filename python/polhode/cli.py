@@ -76,7 +76,8 @@ def _flip_demo() -> None:
         )
         print(
             f"  {method:10s}      {crossings.size} flips, every {interval:.4f} s; "
-            f"max |dT/T| {energy:.1e}, max |dL/L| {drift:.1e}, {sol.stats['wall_time'] * 1e3:.1f} ms"
+            f"max |dT/T| {energy:.1e}, max |dL/L| {drift:.1e}, "
+            f"{sol.stats['wall_time'] * 1e3:.1f} ms"
         )
 
 
