@@ -288,7 +288,7 @@ pub fn principal<'py>(
     };
     let mut moments = vec![0.0; 3 * n];
     let mut axes = vec![0.0; 9 * n];
-    let mut multiplicity = vec![0u8; 3 * n];
+    let mut multiplicity = vec![0i64; 3 * n];
     py.detach(|| {
         polhode::eigen::principal_batch(slice, rtol, &mut moments, &mut axes, &mut multiplicity)
     })
@@ -304,7 +304,6 @@ pub fn principal<'py>(
     } else {
         (vec![n, 3], vec![n, 3, 3])
     };
-    let multiplicity: Vec<i64> = multiplicity.into_iter().map(i64::from).collect();
     let to_py = |v: Vec<f64>, s: Vec<usize>| -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         Ok(Array::from_shape_vec(s, v)
             .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?

@@ -171,9 +171,13 @@ impl<const L: usize> Lanes<L> {
                 for l in 0..L {
                     let apq = self.a[p][q][l];
                     let active = apq.abs() > negligible;
+                    // t = tan(theta) = sign(tau) / (|tau| + sqrt(1 + tau^2)) with
+                    // tau = d / e, multiplied through by |e|: one division fewer on the
+                    // critical path. Entries are <= 1 after scaling, so d^2 + e^2 cannot
+                    // overflow, and |e| > eps/8 keeps it from vanishing.
                     let e = if active { 2.0 * apq } else { 1.0 };
-                    let tau = (self.a[q][q][l] - self.a[p][p][l]) / e;
-                    let root = tau.signum() / (tau.abs() + (1.0 + tau * tau).sqrt());
+                    let d = self.a[q][q][l] - self.a[p][p][l];
+                    let root = d.signum() * e / (d.abs() + (d * d + e * e).sqrt());
                     t[l] = if active { root } else { 0.0 };
                     c[l] = 1.0 / (1.0 + t[l] * t[l]).sqrt();
                     s[l] = t[l] * c[l];
@@ -273,8 +277,13 @@ pub(crate) fn right_singular(f: &Matrix3<f64>) -> ([f64; 3], Matrix3<f64>) {
 /// caller), and fixes the frame: deterministic signs, det = +1, and inside a degenerate subspace
 /// the axes closest to the body's own.
 pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64) -> Principal {
+    // A three-element sorting network: fewer unpredictable branches than a sort call.
     let mut order = [0usize, 1, 2];
-    order.sort_by(|&i, &j| values[i].total_cmp(&values[j]));
+    for (a, b) in [(0, 1), (1, 2), (0, 1)] {
+        if values[order[b]] < values[order[a]] {
+            order.swap(a, b);
+        }
+    }
     let mut moments = Vector3::new(values[order[0]], values[order[1]], values[order[2]]);
     let column = |k: usize| -> Vector3<f64> { vectors.column(order[k]).into_owned() };
 
@@ -289,7 +298,7 @@ pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64)
         let mean = 0.5 * (moments[first] + moments[second]);
         moments[first] = mean;
         moments[second] = mean;
-        let u = signed(column(unique)).normalize();
+        let u = unit(signed(column(unique)));
         // In the plane: the projection of the body axis most perpendicular to `u` (the first
         // such axis on a tie), then the axis that completes a right-handed frame.
         let mut j = 0;
@@ -300,7 +309,7 @@ pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64)
         }
         let mut p1 = -u * u[j];
         p1[j] += 1.0;
-        let p1 = p1.normalize();
+        let p1 = unit(p1);
         let p2 = u.cross(&p1);
         let mut axes = Matrix3::zeros();
         axes.set_column(unique, &u);
@@ -312,9 +321,9 @@ pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64)
     } else {
         // Gram-Schmidt once: the accumulated rotations leave columns orthogonal only to a few
         // eps per rotation.
-        let a0 = signed(column(0)).normalize();
+        let a0 = unit(signed(column(0)));
         let a1 = column(1);
-        let a1 = signed(a1 - a0 * a0.dot(&a1)).normalize();
+        let a1 = unit(signed(a1 - a0 * a0.dot(&a1)));
         let a2 = a0.cross(&a1);
         (Matrix3::from_columns(&[a0, a1, a2]), [1, 1, 1])
     };
@@ -323,6 +332,12 @@ pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64)
         axes,
         multiplicity,
     }
+}
+
+/// `v / |v|` with one division.
+#[inline]
+fn unit(v: Vector3<f64>) -> Vector3<f64> {
+    v * (1.0 / v.norm())
 }
 
 /// The vector with the sign that makes its largest-magnitude component (the first on a tie)
@@ -345,13 +360,14 @@ fn signed(v: Vector3<f64>) -> Vector3<f64> {
 ///
 /// `tensors` holds row-major 3x3 tensors (`tensors[9 i + 3 r + c]`, numpy's (N, 3, 3) layout);
 /// `moments` receives `3 N` values, `axes` `9 N` (row-major, columns are the axes) and
-/// `multiplicity` `3 N`. Errors name the first bad tensor as `inertia[i]`.
+/// `multiplicity` `3 N` (as `i64`, numpy's default integer, so that no conversion pass is
+/// needed). Errors name the first bad tensor as `inertia[i]`.
 pub fn principal_batch(
     tensors: &[f64],
     rtol: f64,
     moments: &mut [f64],
     axes: &mut [f64],
-    multiplicity: &mut [u8],
+    multiplicity: &mut [i64],
 ) -> Result<()> {
     let n = tensors.len() / 9;
     if tensors.len() != 9 * n
@@ -366,43 +382,88 @@ pub fn principal_batch(
         });
     }
     const CHUNK: usize = 4096;
-    const LANES: usize = 4;
     tensors
         .par_chunks(9 * CHUNK)
         .zip(moments.par_chunks_mut(3 * CHUNK))
         .zip(axes.par_chunks_mut(9 * CHUNK))
         .zip(multiplicity.par_chunks_mut(3 * CHUNK))
         .enumerate()
-        .try_for_each(|(chunk, (((t, m), x), u))| {
-            let count = t.len() / 9;
-            for first in (0..count).step_by(LANES) {
-                let mut lanes = Lanes::<LANES>::default();
-                let used = LANES.min(count - first);
-                for l in 0..used {
-                    let i = first + l;
-                    let tensor = Matrix3::from_row_slice(&t[9 * i..9 * i + 9]);
-                    match checked_symmetric(&tensor, "inertia") {
-                        Ok(a) => lanes.load(l, &a),
-                        Err(e) => {
-                            return Err(rename(e, &format!("inertia[{}]", chunk * CHUNK + i)))
-                        }
-                    }
-                }
-                lanes.solve();
-                for l in 0..used {
-                    let i = first + l;
-                    let p = lanes.principal(l, rtol);
-                    m[3 * i..3 * i + 3].copy_from_slice(p.moments.as_slice());
-                    u[3 * i..3 * i + 3].copy_from_slice(&p.multiplicity);
-                    for r in 0..3 {
-                        for c in 0..3 {
-                            x[9 * i + 3 * r + c] = p.axes[(r, c)];
-                        }
-                    }
+        .try_for_each(|(chunk, (((t, m), x), u))| solve_chunk(t, m, x, u, rtol, chunk * CHUNK))
+}
+
+/// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes.
+const LANES: usize = 8;
+
+/// One chunk of the batch, with the widest vector instructions the CPU has (checked at run
+/// time; the arithmetic is the same IEEE operations either way, so results do not depend on it).
+fn solve_chunk(
+    t: &[f64],
+    m: &mut [f64],
+    x: &mut [f64],
+    u: &mut [i64],
+    rtol: f64,
+    offset: usize,
+) -> Result<()> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { solve_chunk_avx2(t, m, x, u, rtol, offset) };
+        }
+    }
+    solve_chunk_generic(t, m, x, u, rtol, offset)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2")]
+unsafe fn solve_chunk_avx2(
+    t: &[f64],
+    m: &mut [f64],
+    x: &mut [f64],
+    u: &mut [i64],
+    rtol: f64,
+    offset: usize,
+) -> Result<()> {
+    solve_chunk_generic(t, m, x, u, rtol, offset)
+}
+
+#[inline(always)]
+fn solve_chunk_generic(
+    t: &[f64],
+    m: &mut [f64],
+    x: &mut [f64],
+    u: &mut [i64],
+    rtol: f64,
+    offset: usize,
+) -> Result<()> {
+    let count = t.len() / 9;
+    for first in (0..count).step_by(LANES) {
+        let mut lanes = Lanes::<LANES>::default();
+        let used = LANES.min(count - first);
+        for l in 0..used {
+            let i = first + l;
+            let tensor = Matrix3::from_row_slice(&t[9 * i..9 * i + 9]);
+            match checked_symmetric(&tensor, "inertia") {
+                Ok(a) => lanes.load(l, &a),
+                Err(e) => return Err(rename(e, &format!("inertia[{}]", offset + i))),
+            }
+        }
+        lanes.solve();
+        for l in 0..used {
+            let i = first + l;
+            let p = lanes.principal(l, rtol);
+            m[3 * i..3 * i + 3].copy_from_slice(p.moments.as_slice());
+            for (k, &count) in p.multiplicity.iter().enumerate() {
+                u[3 * i + k] = i64::from(count);
+            }
+            for r in 0..3 {
+                for c in 0..3 {
+                    x[9 * i + 3 * r + c] = p.axes[(r, c)];
                 }
             }
-            Ok(())
-        })
+        }
+    }
+    Ok(())
 }
 
 /// Replaces the argument name in an error by `name` (keeping any `[r, c]` index suffix).
