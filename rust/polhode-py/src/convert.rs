@@ -40,18 +40,6 @@ pub(crate) fn matrix3(name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Mat
     Ok(Matrix3::from_fn(|r, c| v[[r, c]]))
 }
 
-/// An (N, 3) array as vectors.
-pub(crate) fn vectors(name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<Vector3<f64>>> {
-    if a.shape()[1] != 3 {
-        return Err(shape_error(name, "(N, 3)", a.shape()));
-    }
-    Ok(a.as_array()
-        .rows()
-        .into_iter()
-        .map(|r| Vector3::new(r[0], r[1], r[2]))
-        .collect())
-}
-
 pub(crate) fn vector_to_py<'py>(py: Python<'py>, v: &Vector3<f64>) -> Bound<'py, PyArray1<f64>> {
     Array1::from_iter(v.iter().copied()).into_pyarray(py)
 }

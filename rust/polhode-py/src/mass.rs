@@ -8,7 +8,7 @@ use numpy::{
 use polhode::MassProperties;
 use pyo3::prelude::*;
 
-use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py, vectors};
+use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py};
 use crate::errors::{CoreError, CoreResult};
 
 /// Principal moments (3,), axes (3, 3) and multiplicities (3,) as numpy arrays.
@@ -36,9 +36,19 @@ impl PyMassProperties {
         masses: PyReadonlyArray1<'_, f64>,
         positions: PyReadonlyArray2<'_, f64>,
     ) -> PyResult<Self> {
-        let positions = vectors("positions", &positions)?;
-        let masses = masses.as_array().to_vec();
-        Ok(py.detach(|| wrap(MassProperties::point_masses(&masses, &positions)))?)
+        if positions.shape()[1] != 3 {
+            return Err(bad_shape("positions", "(N, 3)", positions.shape()));
+        }
+        // Borrow the numpy buffers (C-contiguous float64 from the Python layer) as rows.
+        let (masses, positions) = match (masses.as_slice(), positions.as_slice()) {
+            (Ok(m), Ok(p)) => (m, p.as_chunks::<3>().0),
+            _ => {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "Expected C-contiguous `masses` and `positions`.",
+                ))
+            }
+        };
+        Ok(py.detach(|| wrap(MassProperties::point_masses(masses, positions)))?)
     }
 
     #[staticmethod]

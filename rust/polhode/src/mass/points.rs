@@ -31,7 +31,12 @@ impl MassProperties {
     /// assert_eq!(p.moments[0], 0.0);
     /// assert!((p.moments[2] - mu * 112.8 * 112.8).abs() < 1e-10 * p.moments[2]);
     /// ```
-    pub fn point_masses(masses: &[f64], positions: &[Vector3<f64>]) -> Result<Self> {
+    ///
+    /// `positions` may be `Vector3<f64>` or plain `[f64; 3]` rows (a numpy buffer, uncopied).
+    pub fn point_masses<P>(masses: &[f64], positions: &[P]) -> Result<Self>
+    where
+        P: Copy + Sync + Into<Vector3<f64>>,
+    {
         if masses.len() != positions.len() {
             return Err(Error::Shape {
                 name: "positions".into(),
@@ -46,7 +51,8 @@ impl MassProperties {
                 got: "(0,)".into(),
             });
         }
-        for (i, (&m, r)) in masses.iter().zip(positions).enumerate() {
+        for (i, (&m, &r)) in masses.iter().zip(positions).enumerate() {
+            let r: Vector3<f64> = r.into();
             if !(m.is_finite() && m > 0.0) {
                 finite(&format!("masses[{i}]"), m)?;
                 return Err(Error::NonPositive {
@@ -60,7 +66,7 @@ impl MassProperties {
                 }
             }
         }
-        let reference = positions[0];
+        let reference: Vector3<f64> = positions[0].into();
         let (mass, first_moment) = masses
             .par_chunks(CHUNK)
             .zip(positions.par_chunks(CHUNK))
@@ -68,7 +74,7 @@ impl MassProperties {
                 m.iter()
                     .zip(r)
                     .fold((0.0, Vector3::zeros()), |(sm, sr), (&mi, ri)| {
-                        (sm + mi, sr + (ri - reference) * mi)
+                        (sm + mi, sr + ((*ri).into() - reference) * mi)
                     })
             })
             .reduce(|| (0.0, Vector3::zeros()), |a, b| (a.0 + b.0, a.1 + b.1));
@@ -87,6 +93,7 @@ impl MassProperties {
             .map(|(m, r)| {
                 let mut acc = RowAccumulator::new();
                 for (&mi, ri) in m.iter().zip(r) {
+                    let ri: Vector3<f64> = (*ri).into();
                     let d = ((ri - center_of_mass) - center_of_mass_low) * mi.sqrt();
                     acc.push([d[0], d[1], d[2]]);
                 }
