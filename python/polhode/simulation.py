@@ -113,6 +113,32 @@ def _resolve_body(
     )
 
 
+def _quaternion_product(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Hamilton product of scalar-last quaternions, broadcast over leading axes."""
+    av, aw = a[..., :3], a[..., 3:]
+    bv, bw = b[..., :3], b[..., 3:]
+    vector = aw * bv + bw * av + np.cross(av, bv)
+    scalar = aw * bw - np.sum(av * bv, axis=-1, keepdims=True)
+    return np.concatenate([vector, scalar], axis=-1)
+
+
+def _conjugate(q: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.concatenate([-q[..., :3], q[..., 3:]], axis=-1)
+
+
+def _rotate(q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """v rotated by the unit quaternions q (xyzw): v + w t + q_vec x t with t = 2 q_vec x v."""
+    qv, qw = q[..., :3], q[..., 3:]
+    t = 2.0 * np.cross(qv, v)
+    return v + qw * t + np.cross(qv, t)
+
+
+def _matrix_to_quaternion(matrix: NDArray[np.float64]) -> NDArray[np.float64]:
+    from scipy.spatial.transform import Rotation
+
+    return np.asarray(Rotation.from_matrix(matrix).as_quat(), dtype=np.float64)
+
+
 def _times(t: Any, t0: float) -> NDArray[np.float64]:
     times = _as_float_array("t", t)
     if np.ndim(t) == 0:
@@ -280,11 +306,11 @@ def simulate(
             raise _core.PolhodeError(f"Expected `atol` to be positive and finite, got {atol}.")
     if method == "auto":
         method = "exact" if torque_model is None else "dop853"
-    from scipy.spatial.transform import Rotation
-
-    to_principal = Rotation.from_matrix(axes)
+    identity = bool(np.array_equal(axes, np.eye(3)))
+    q_axes = None if identity else _matrix_to_quaternion(axes)
     q_body0 = _orientation(orientation0, n)
-    q_principal0 = np.ascontiguousarray((Rotation.from_quat(q_body0) * to_principal).as_quat())
+    q_principal0 = q_body0 if q_axes is None else _quaternion_product(q_body0, q_axes)
+    q_principal0 = np.ascontiguousarray(q_principal0)
     spec = None if torque_model is None else torque_model._spec(axes)
     omega_p, quat_p, stats = _core.simulate(
         moments,
@@ -307,9 +333,8 @@ def simulate(
     energy = 0.5 * np.einsum("nmk,nmk->nm", omega_p, l_principal)
     quaternion = l_space = None
     if quat_p is not None:
-        r_p = Rotation.from_quat(quat_p.reshape(-1, 4))
-        l_space = r_p.apply(l_principal.reshape(-1, 3)).reshape(l_principal.shape)
-        quaternion = (r_p * to_principal.inv()).as_quat().reshape(quat_p.shape)
+        l_space = _rotate(quat_p, l_principal)
+        quaternion = quat_p if q_axes is None else _quaternion_product(quat_p, _conjugate(q_axes))
         # One sign per trajectory: keep the quaternion continuous in time (q and -q are one
         # rotation; scipy returns w >= 0).
         flips = np.einsum("nmk,nmk->nm", quaternion[:, 1:], quaternion[:, :-1]) < 0
