@@ -1,9 +1,11 @@
-"""The ``polhode`` command line: ``polhode demo`` (the default)."""
+"""The ``polhode`` command line: ``polhode demo`` (the default) and ``polhode spin``."""
 
 from __future__ import annotations
 
 import argparse
+import csv
 import sys
+from typing import Any
 
 import numpy as np
 
@@ -81,16 +83,136 @@ def _flip_demo() -> None:
         )
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+SOLIDS = {
+    "sphere": ("mass", "radius"),
+    "spherical_shell": ("mass", "radius"),
+    "box": ("mass", "a", "b", "c"),
+    "cylinder": ("mass", "radius", "length"),
+    "tube": ("mass", "inner_radius", "outer_radius", "length"),
+    "cone": ("mass", "radius", "height"),
+    "ellipsoid": ("mass", "a", "b", "c"),
+    "torus": ("mass", "major_radius", "minor_radius"),
+    "capsule": ("mass", "radius", "length"),
+}
+
+
+def _solid(words: list[str]) -> ph.Body:
+    """A solid from ``KIND NAME=VALUE ...``, e.g. ``cylinder mass=1 radius=0.1 length=0.5``."""
+    kind, *pairs = words
+    if kind not in SOLIDS:
+        raise ph.PolhodeError(
+            f"Expected `--body` to name one of {', '.join(SOLIDS)}, got {kind!r}."
+        )
+    values: dict[str, float] = {}
+    for pair in pairs:
+        name, _, value = pair.partition("=")
+        try:
+            values[name] = float(value)
+        except ValueError:
+            raise ph.PolhodeError(
+                f"Expected `--body` parameters as NAME=NUMBER, got {pair!r}."
+            ) from None
+    expected = SOLIDS[kind]
+    if sorted(values) != sorted(expected):
+        raise ph.PolhodeError(
+            f"Expected `--body {kind}` to give {' '.join(n + '=...' for n in expected)}, "
+            f"got {' '.join(pairs) or 'nothing'}."
+        )
+    args = [values[n] for n in expected]
+    if kind in ("box", "ellipsoid"):
+        return getattr(ph.Body, kind)(args[0], args[1:])
+    return getattr(ph.Body, kind)(*args)
+
+
+def _spin(args: argparse.Namespace) -> int:
+    body: Any = _solid(args.body) if args.body else np.array(args.moments, dtype=float)
+    omega0 = np.array(args.omega, dtype=float)
+    times = np.linspace(0.0, args.t, args.points)
+    options: dict[str, Any] = {"method": args.method, "rtol": args.rtol, "order": args.order}
+    if args.dt is not None:
+        options["dt"] = args.dt
+    a = ph.analyze(body, omega0)
+    sol = ph.simulate(body, omega0, times, **options)
+    assert sol.angular_momentum is not None and sol.quaternion is not None
+    l_space = sol.angular_momentum
+    l_norm = np.linalg.norm(sol.angular_momentum_body, axis=1)
+    np.set_printoptions(precision=6, suppress=True)
+    print(f"principal moments  {a.moments}")
+    print(f"regime             {a.regime}; axis stability {', '.join(a.axis_stability)}")
+    if a.period is not None:
+        print(f"period             {a.period:.9g}   (omega in the body)")
+    if a.flip_interval is not None:
+        print(f"flip interval      {a.flip_interval:.9g}")
+    if a.precession_rate is not None:
+        print(f"precession rate    {a.precession_rate:.9g}   (symmetric top, body frame)")
+    print(f"omega at t = {args.t:g}  {sol.omega[-1]}")
+    print(
+        f"method {sol.stats['method']}: {sol.stats['steps']} steps, "
+        f"{sol.stats['evaluations']} evaluations, {sol.stats['wall_time'] * 1e3:.2f} ms"
+    )
+    print("invariant drift (max relative error over the run):")
+    print(f"  energy T         {np.max(np.abs(sol.energy / sol.energy[0] - 1)):.2e}")
+    print(f"  |L|              {np.max(np.abs(l_norm / l_norm[0] - 1)):.2e}")
+    deviation = np.linalg.norm(l_space - l_space[0], axis=1) / np.linalg.norm(l_space[0])
+    print(f"  L in space       {np.max(deviation):.2e}")
+    if args.csv:
+        with open(args.csv, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"])
+            for row in np.column_stack([sol.t, sol.omega, sol.quaternion]):
+                writer.writerow([repr(float(x)) for x in row])
+        print(f"trajectory written to {args.csv}")
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="polhode", description="Rigid-body rotation.")
     commands = parser.add_subparsers(dest="command")
     demo = commands.add_parser(
         "demo", help="principal axes of a few bodies and the tennis-racket flip of a T-handle"
     )
     demo.set_defaults(run=_demo)
+    spin = commands.add_parser(
+        "spin",
+        help="simulate one torque-free body and report its motion and invariant drift",
+        description="Simulate one torque-free body. Give --moments or --body.",
+    )
+    source = spin.add_mutually_exclusive_group(required=True)
+    source.add_argument("--moments", nargs=3, type=float, metavar=("I1", "I2", "I3"))
+    source.add_argument(
+        "--body",
+        nargs="+",
+        metavar="KIND NAME=VALUE",
+        help="a solid, e.g. 'cylinder mass=1 radius=0.1 length=0.5' (kinds: "
+        + ", ".join(SOLIDS)
+        + ")",
+    )
+    spin.add_argument("--omega", nargs=3, type=float, required=True, metavar=("W1", "W2", "W3"))
+    spin.add_argument("--t", type=float, required=True, help="end time")
+    spin.add_argument("--points", type=int, default=1001, help="output times (default 1001)")
+    spin.add_argument("--method", default="auto", choices=ph.simulation.METHODS)
+    spin.add_argument("--dt", type=float, help="step of the fixed-step methods")
+    spin.add_argument("--order", type=int, default=4, choices=(2, 4, 6))
+    spin.add_argument("--rtol", type=float, default=1e-10)
+    spin.add_argument("--csv", help="write t, omega and the quaternion (xyzw) to this file")
+    spin.set_defaults(run=_spin)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status (2 for bad arguments, never a traceback)."""
+    parser = _parser()
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     if args.command is None:
         return _demo(args)
-    result: int = args.run(args)
+    if getattr(args, "points", 2) < 2:
+        parser.error("argument --points: expected at least 2")
+    try:
+        result: int = args.run(args)
+    except (ValueError, TypeError) as error:  # PolhodeError is a ValueError
+        print(f"polhode {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:
+        print(f"polhode {args.command}: error: {error}", file=sys.stderr)
+        return 1
     return result

@@ -1,0 +1,170 @@
+"""The command line: the demo runs, `spin` reports what the exact solution says, and bad
+arguments end with a message and a non-zero status, never a traceback."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.special import ellipk
+
+from polhode.cli import main
+
+
+def test_demo_prints_the_flip_prediction_and_observation(capsys):
+    assert main(["demo"]) == 0
+    out = capsys.readouterr().out
+    assert "T-handle" in out and "predicted" in out
+    # Both the exact solution and the splitting observe flips at the predicted interval.
+    predicted = float(out.split("a flip every ")[1].split(" s")[0])
+    observed = [float(part.split(" s;")[0]) for part in out.split("every ")[2:]]
+    assert len(observed) == 2
+    for interval in observed:
+        assert abs(interval / predicted - 1) < 1e-3  # sampled on a 20001-point grid
+
+
+def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
+    path = tmp_path / "run.csv"
+    code = main(
+        [
+            "spin",
+            "--moments",
+            "1",
+            "2",
+            "3",
+            "--omega",
+            "0.01",
+            "1",
+            "0.01",
+            "--t",
+            "50",
+            "--points",
+            "11",
+            "--csv",
+            str(path),
+        ]
+    )
+    assert code == 0
+    out = capsys.readouterr().out
+    # Independent period: L^2 > 2 T I2 here (L circulates about axis 3), so with
+    # Delta_j = L^2 - 2 T I_j: T = 4 K(k^2) / lambda, lambda = sqrt(Delta_1 (I3 - I2) / (I1 I2 I3)),
+    # k^2 = (I2 - I1)(-Delta_3) / ((I3 - I2) Delta_1).
+    i = np.array([1.0, 2.0, 3.0])
+    w = np.array([0.01, 1.0, 0.01])
+    l2, t2 = np.sum((i * w) ** 2), np.sum(i * w**2)
+    d1, d3 = l2 - t2 * i[0], l2 - t2 * i[2]
+    lam = np.sqrt(d1 * (i[2] - i[1]) / np.prod(i))
+    k2 = (i[1] - i[0]) * (-d3) / ((i[2] - i[1]) * d1)
+    period = 4 * ellipk(k2) / lam
+    printed = float(out.split("period")[1].split()[0])
+    assert abs(printed / period - 1) < 1e-9
+    with path.open() as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0] == ["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"]
+    data = np.array(rows[1:], dtype=float)
+    assert data.shape == (11, 8)
+    np.testing.assert_allclose(data[0, 1:4], w, rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(data[:, 4:], axis=1), 1.0, rtol=1e-14)
+
+
+def test_spin_accepts_a_solid(capsys):
+    code = main(
+        [
+            "spin",
+            "--body",
+            "cylinder",
+            "mass=1",
+            "radius=0.1",
+            "length=0.5",
+            "--omega",
+            "0",
+            "1",
+            "5",
+            "--t",
+            "2",
+            "--method",
+            "splitting",
+            "--dt",
+            "1e-3",
+        ]
+    )
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "symmetric" in out
+    # Symmetric top: Omega = w_s (I_s - I_t) / I_t with I_s = m r^2 / 2, I_t = m (3 r^2 + L^2)/12.
+    i_s, i_t = 0.01 / 2, (3 * 0.01 + 0.25) / 12
+    expected = 5.0 * (i_s - i_t) / i_t
+    printed = float(out.split("precession rate")[1].split()[0])
+    assert abs(printed / expected - 1) < 1e-8
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["spin", "--moments", "1", "2", "0", "--omega", "1", "1", "1", "--t", "5"], "moments"),
+        (
+            [
+                "spin",
+                "--moments",
+                "1",
+                "2",
+                "3",
+                "--omega",
+                "1",
+                "1",
+                "1",
+                "--t",
+                "5",
+                "--method",
+                "rk4",
+            ],
+            "dt",
+        ),
+        (["spin", "--body", "pyramid", "mass=1", "--omega", "1", "1", "1", "--t", "5"], "body"),
+        (["spin", "--body", "cylinder", "mass=1", "--omega", "1", "1", "1", "--t", "5"], "body"),
+        (
+            [
+                "spin",
+                "--body",
+                "sphere",
+                "mass=x",
+                "radius=1",
+                "--omega",
+                "1",
+                "1",
+                "1",
+                "--t",
+                "5",
+            ],
+            "body",
+        ),
+        (["spin", "--moments", "1", "2", "3", "--omega", "nan", "1", "1", "--t", "5"], "omega0"),
+    ],
+)
+def test_bad_arguments_exit_with_status_2_and_a_message(argv, fragment, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "error" in err and fragment in err
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["spin", "--moments", "1", "2", "--omega", "1", "1", "1", "--t", "5"],
+        ["spin", "--omega", "1", "1", "1", "--t", "5"],
+        ["spin", "--moments", "1", "2", "3", "--omega", "1", "1", "1", "--t", "x"],
+        ["spin", "--moments", "1", "2", "3", "--omega", "1", "1", "1", "--t", "5", "--points", "1"],
+        ["frobnicate"],
+    ],
+)
+def test_argparse_errors_are_messages_not_tracebacks(argv):
+    result = subprocess.run(
+        [sys.executable, "-m", "polhode", *argv], capture_output=True, text=True, timeout=60
+    )
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+    assert "error" in result.stderr
