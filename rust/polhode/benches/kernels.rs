@@ -1,0 +1,119 @@
+//! Criterion benchmarks of the kernels, without Python in the way:
+//! `cargo bench -p polhode --bench kernels`.
+//!
+//! One step of each integrator (with and without attitude), one exact evaluation and one
+//! construction of the exact solution, one eigensolve (single and per tensor in a batch), and
+//! the point-mass assembly per point.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use polhode::dynamics::{
+    dop853_step, midpoint_step, rk4_step, rk4_step_omega, splitting_step, splitting_step_omega,
+    Moments, SplittingOrder, State,
+};
+use polhode::exact::FreeRotation;
+use polhode::MassProperties;
+
+fn steps(c: &mut Criterion) {
+    let body = Moments::new(Vector3::new(1.0, 2.0, 3.0)).unwrap();
+    let state = State::new(Vector3::new(0.01, 1.0, 0.01), UnitQuaternion::identity());
+    let h = 1e-2;
+    let mut group = c.benchmark_group("step");
+    group.bench_function("rk4 omega", |b| {
+        b.iter(|| rk4_step_omega(&body, black_box(&state.omega), h))
+    });
+    group.bench_function("rk4 attitude", |b| {
+        b.iter(|| rk4_step(&body, black_box(&state), h))
+    });
+    for (name, order) in [
+        ("splitting2", SplittingOrder::Two),
+        ("splitting4", SplittingOrder::Four),
+        ("splitting6", SplittingOrder::Six),
+    ] {
+        group.bench_function(format!("{name} omega"), |b| {
+            b.iter(|| splitting_step_omega(&body, black_box(&state.omega), h, order))
+        });
+        group.bench_function(format!("{name} attitude"), |b| {
+            b.iter(|| splitting_step(&body, black_box(&state), h, order))
+        });
+    }
+    group.bench_function("midpoint attitude", |b| {
+        b.iter(|| midpoint_step(&body, black_box(&state), h).unwrap())
+    });
+    group.bench_function("dop853 attitude (one fixed step)", |b| {
+        b.iter(|| dop853_step(&body, black_box(&state), h))
+    });
+    group.finish();
+}
+
+fn exact(c: &mut Criterion) {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let omega0 = Vector3::new(0.01, 1.0, 0.01);
+    let free = FreeRotation::new(moments, omega0, UnitQuaternion::identity()).unwrap();
+    let mut group = c.benchmark_group("exact");
+    group.bench_function("new", |b| {
+        b.iter(|| FreeRotation::new(black_box(moments), omega0, UnitQuaternion::identity()))
+    });
+    group.bench_function("omega(t = 1e3)", |b| b.iter(|| free.omega(black_box(1e3))));
+    group.bench_function("state(t = 1e3)", |b| b.iter(|| free.state(black_box(1e3))));
+    group.bench_function("state(t = 1e12)", |b| {
+        b.iter(|| free.state(black_box(1e12)))
+    });
+    group.finish();
+}
+
+fn eigen(c: &mut Criterion) {
+    let r = Rotation3::from_euler_angles(0.3, -1.1, 2.0);
+    let tensor = r.matrix() * Matrix3::from_diagonal(&Vector3::new(1.0, 2.5, 3.0)) * r.transpose();
+    let mut group = c.benchmark_group("eigen");
+    group.bench_function("symmetric_eigen3", |b| {
+        b.iter(|| polhode::symmetric_eigen3(black_box(&tensor)).unwrap())
+    });
+    let n = 4096;
+    let tensors: Vec<f64> = (0..n)
+        .flat_map(|i| {
+            let r = Rotation3::from_euler_angles(0.1 * i as f64, 0.7, -0.03 * i as f64);
+            let d = Vector3::new(1.0, 1.5 + (i % 7) as f64, 4.0);
+            let t = r.matrix() * Matrix3::from_diagonal(&d) * r.transpose();
+            (0..9).map(move |k| t[(k / 3, k % 3)])
+        })
+        .collect();
+    let (mut moments, mut axes, mut multiplicity) =
+        (vec![0.0; 3 * n], vec![0.0; 9 * n], vec![0i64; 3 * n]);
+    group.throughput(Throughput::Elements(n as u64));
+    group.bench_function("principal_batch per tensor", |b| {
+        b.iter(|| {
+            polhode::eigen::principal_batch(
+                black_box(&tensors),
+                polhode::eigen::DEFAULT_RTOL,
+                &mut moments,
+                &mut axes,
+                &mut multiplicity,
+            )
+            .unwrap()
+        })
+    });
+    group.finish();
+}
+
+fn points(c: &mut Criterion) {
+    let n = 100_000;
+    let masses: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64).collect();
+    let positions: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let x = i as f64;
+            [(0.37 * x).sin(), (1.3 * x).cos(), 0.001 * x]
+        })
+        .collect();
+    let mut group = c.benchmark_group("mass");
+    group.throughput(Throughput::Elements(n as u64));
+    group.bench_function("point_masses per point", |b| {
+        b.iter(|| MassProperties::point_masses(black_box(&masses), &positions).unwrap())
+    });
+    group.finish();
+}
+
+criterion_group!(kernels, steps, exact, eigen, points);
+criterion_main!(kernels);
