@@ -24,6 +24,15 @@ class MassProperties:
         masses: NDArray[np.float64], positions: NDArray[np.float64]
     ) -> MassProperties: ...
     @staticmethod
+    def mesh(
+        vertices: NDArray[np.float64],
+        faces: NDArray[np.int64],
+        density: float | None = None,
+        mass: float | None = None,
+        shell: bool = False,
+        fix_winding: bool = False,
+    ) -> MassProperties: ...
+    @staticmethod
     def point(mass: float) -> MassProperties: ...
     @staticmethod
     def sphere(mass: float, radius: float) -> MassProperties: ...

@@ -14,6 +14,36 @@ from polhode.principal_axes import Principal
 __all__ = ["Body"]
 
 
+def _as_faces(faces: Any) -> NDArray[np.int64]:
+    """(M, 3) integer vertex indices as a C-contiguous int64 array."""
+    if faces is None or isinstance(faces, str | bytes):
+        raise TypeError(
+            f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
+        )
+    try:
+        array = np.asarray(faces)
+    except (TypeError, ValueError) as error:
+        raise TypeError(
+            f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
+        ) from error
+    if array.dtype.kind not in "iu" and not (array.size == 0 and array.dtype.kind == "f"):
+        raise TypeError(f"Expected `faces` to be an array of integers, got dtype {array.dtype}.")
+    if array.ndim != 2 or array.shape[1] != 3:
+        shape = "(" + ", ".join(str(d) for d in array.shape) + (",)" if array.ndim == 1 else ")")
+        raise _core.PolhodeError(f"Expected `faces` to have shape (M, 3), got {shape}.")
+    if array.dtype.kind == "u" and array.size and int(array.max()) > np.iinfo(np.int64).max:
+        raise _core.PolhodeError(
+            f"Expected `faces` to hold vertex indices, got {int(array.max())}."
+        )
+    return np.ascontiguousarray(array, dtype=np.int64)
+
+
+def _as_flag(name: str, value: Any) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"Expected `{name}` to be a bool, got {type(value).__name__}.")
+    return bool(value)
+
+
 class Body:
     """A rigid body: mass, centre of mass and inertia, all in the body's own axes.
 
@@ -57,6 +87,66 @@ class Body:
                 f"got ({r.shape[0]}, 3)."
             )
         return cls(_core.MassProperties.point_masses(m, r))
+
+    @classmethod
+    def mesh(
+        cls,
+        vertices: Any,
+        faces: Any,
+        density: float | None = None,
+        mass: float | None = None,
+        shell: bool = False,
+        fix_winding: bool = False,
+    ) -> Body:
+        """A uniform solid bounded by a closed triangle mesh, or a thin shell on its surface.
+
+        ``vertices`` (N, 3) are points in body coordinates and ``faces`` (M, 3) integer vertex
+        indices, wound counter-clockwise seen from outside. Give exactly one of ``density``
+        (mass per volume, or per area with ``shell=True``) and ``mass``.
+
+        A solid mesh must be closed and consistently wound (every edge traversed once in each
+        direction); nested closed shells (a cavity wound inward) add with their signs. An
+        inside-out mesh (negative volume) raises unless ``fix_winding=True``, which reverses
+        every face. With ``shell=True`` the mass lies on the surface (uniform surface density,
+        thickness -> 0), and the mesh need not be closed.
+
+        The integrals are exact for the polyhedron and taken about the vertex mean, so a mesh
+        far from the origin keeps its digits.
+        """
+        v = as_array("vertices", vertices, (None, 3))
+        f = _as_faces(faces)
+        return cls(
+            _core.MassProperties.mesh(
+                v,
+                f,
+                None if density is None else as_scalar("density", density),
+                None if mass is None else as_scalar("mass", mass),
+                _as_flag("shell", shell),
+                _as_flag("fix_winding", fix_winding),
+            )
+        )
+
+    @classmethod
+    def from_trimesh(
+        cls,
+        mesh: Any,
+        density: float | None = None,
+        mass: float | None = None,
+        shell: bool = False,
+        fix_winding: bool = False,
+    ) -> Body:
+        """A body from a ``trimesh.Trimesh`` (or anything with ``vertices`` and ``faces``).
+
+        See :meth:`mesh`; trimesh's own ``density`` is not used: give ``density`` or ``mass``.
+        """
+        try:
+            vertices, faces = mesh.vertices, mesh.faces
+        except AttributeError as error:
+            raise TypeError(
+                "Expected `mesh` to have `vertices` and `faces` (a trimesh.Trimesh), "
+                f"got {type(mesh).__name__}."
+            ) from error
+        return cls.mesh(vertices, faces, density, mass, shell, fix_winding)
 
     @classmethod
     def sphere(cls, mass: float, radius: float) -> Body:

@@ -51,6 +51,45 @@ impl PyMassProperties {
         Ok(py.detach(|| wrap(MassProperties::point_masses(masses, positions)))?)
     }
 
+    /// A solid bounded by a closed triangle mesh (or, with `shell`, a thin surface shell).
+    #[staticmethod]
+    #[pyo3(signature = (vertices, faces, density=None, mass=None, shell=false, fix_winding=false))]
+    fn mesh(
+        py: Python<'_>,
+        vertices: PyReadonlyArray2<'_, f64>,
+        faces: PyReadonlyArray2<'_, i64>,
+        density: Option<f64>,
+        mass: Option<f64>,
+        shell: bool,
+        fix_winding: bool,
+    ) -> PyResult<Self> {
+        if vertices.shape()[1] != 3 {
+            return Err(bad_shape("vertices", "(N, 3)", vertices.shape()));
+        }
+        if faces.shape()[1] != 3 {
+            return Err(bad_shape("faces", "(M, 3)", faces.shape()));
+        }
+        // Borrow the numpy buffers (C-contiguous from the Python layer) as rows.
+        let (vertices, faces) = match (vertices.as_slice(), faces.as_slice()) {
+            (Ok(v), Ok(f)) => (v.as_chunks::<3>().0, f.as_chunks::<3>().0),
+            _ => {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "Expected C-contiguous `vertices` and `faces`.",
+                ))
+            }
+        };
+        Ok(py.detach(|| {
+            wrap(MassProperties::mesh(
+                vertices,
+                faces,
+                density,
+                mass,
+                shell,
+                fix_winding,
+            ))
+        })?)
+    }
+
     #[staticmethod]
     fn point(mass: f64) -> CoreResult<Self> {
         wrap(MassProperties::point(mass))

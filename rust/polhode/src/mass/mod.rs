@@ -6,6 +6,7 @@
 //! needle or the tiny anisotropy of a heavy sphere with a speck on it (NUMERICS.md).
 
 mod factor;
+mod mesh;
 mod points;
 mod solids;
 
