@@ -14,6 +14,14 @@ from polhode.principal_axes import Principal
 __all__ = ["Body"]
 
 
+_URDF_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+
+def _numbers(values: Any) -> str:
+    """Space-separated shortest round-trip decimals."""
+    return " ".join(repr(float(v)) for v in values)
+
+
 def _as_faces(faces: Any) -> NDArray[np.int64]:
     """(M, 3) integer vertex indices as a C-contiguous int64 array."""
     if faces is None or isinstance(faces, str | bytes):
@@ -255,6 +263,40 @@ class Body:
             )
         )
 
+    @classmethod
+    def from_fullinertia(
+        cls, mass: float, fullinertia: Any, center_of_mass: Any = (0.0, 0.0, 0.0)
+    ) -> Body:
+        """A body from MuJoCo's ``fullinertia`` 6-vector (I_xx, I_yy, I_zz, I_xy, I_xz, I_yz).
+
+        The six numbers are tensor elements about the centre of mass in body axes (products of
+        inertia as tensor elements, I_xy = -sum m x y), as MuJoCo reads them.
+        """
+        xx, yy, zz, xy, xz, yz = as_array("fullinertia", fullinertia, (6,))
+        tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        return cls.from_inertia(mass, tensor, center_of_mass)
+
+    @classmethod
+    def from_urdf_inertia(
+        cls,
+        mass: float,
+        *,
+        ixx: float,
+        ixy: float,
+        ixz: float,
+        iyy: float,
+        iyz: float,
+        izz: float,
+        center_of_mass: Any = (0.0, 0.0, 0.0),
+    ) -> Body:
+        """A body from URDF/SDF ``<inertia ixx ixy ixz iyy iyz izz>`` (tensor elements about
+        the centre of mass, in body axes: an ``<origin>`` with ``rpy="0 0 0"``)."""
+        v = [
+            as_scalar(n, x) for n, x in zip(_URDF_KEYS, (ixx, ixy, ixz, iyy, iyz, izz), strict=True)
+        ]
+        tensor = np.array([[v[0], v[1], v[2]], [v[1], v[3], v[4]], [v[2], v[4], v[5]]])
+        return cls.from_inertia(mass, tensor, center_of_mass)
+
     # --- properties -----------------------------------------------------------------------
 
     @property
@@ -306,6 +348,49 @@ class Body:
     def kinetic_energy(self, omega: Any) -> float:
         """Rotational kinetic energy w . I w / 2."""
         return self._core.kinetic_energy(as_array("omega", omega, (3,)))
+
+    # --- engine formats ---------------------------------------------------------------------
+
+    def to_fullinertia(self) -> NDArray[np.float64]:
+        """(6,) MuJoCo ``fullinertia`` order: I_xx, I_yy, I_zz, I_xy, I_xz, I_yz.
+
+        Tensor elements about the centre of mass in body axes (I_xy = -sum m x y).
+        """
+        i = self.inertia
+        return np.array([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]])
+
+    def to_urdf_inertia(self) -> dict[str, float]:
+        """URDF/SDF ``<inertia>`` attributes {ixx, ixy, ixz, iyy, iyz, izz}: tensor elements
+        about the centre of mass in body axes (I_xy = -sum m x y)."""
+        i = self.inertia
+        values = (i[0, 0], i[0, 1], i[0, 2], i[1, 1], i[1, 2], i[2, 2])
+        return {k: float(v) for k, v in zip(_URDF_KEYS, values, strict=True)}
+
+    def to_mjcf(self) -> str:
+        """A MuJoCo ``<inertial>`` element: centre of mass, the principal frame as a ``quat``
+        (w, x, y, z, MuJoCo's order) and the principal moments as ``diaginertia``."""
+        p = self.principal()
+        w_last = p.rotation.as_quat()
+        quat = (w_last[3], w_last[0], w_last[1], w_last[2])
+        return (
+            f'<inertial pos="{_numbers(self.center_of_mass)}" quat="{_numbers(quat)}" '
+            f'mass="{_numbers([self.mass])}" diaginertia="{_numbers(p.moments)}"/>'
+        )
+
+    def to_urdf_inertial(self) -> str:
+        """A URDF ``<inertial>`` element: the centre of mass and the principal frame as the
+        ``<origin xyz rpy>`` (fixed-axis roll, pitch, yaw: R = Rz(y) Ry(p) Rx(r)), and the
+        principal moments as a diagonal ``<inertia>``."""
+        p = self.principal()
+        rpy = p.rotation.as_euler("xyz")
+        m = [repr(float(x)) for x in p.moments]
+        return (
+            "<inertial>\n"
+            f'  <origin xyz="{_numbers(self.center_of_mass)}" rpy="{_numbers(rpy)}"/>\n'
+            f'  <mass value="{_numbers([self.mass])}"/>\n'
+            f'  <inertia ixx="{m[0]}" ixy="0" ixz="0" iyy="{m[1]}" iyz="0" izz="{m[2]}"/>\n'
+            "</inertial>"
+        )
 
     # --- moving and combining -------------------------------------------------------------
 
