@@ -591,3 +591,17 @@ def cube_corners(side: float = 1.0, offset=(0.0, 0.0, 0.0)):
     """Eight unit masses at the corners of a cube, optionally shifted by `offset`."""
     corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], dtype=float)
     return np.ones(8), corners * side + np.asarray(offset, dtype=float)
+
+
+def qmul(a, b):
+    """Hamilton product of scalar-last (x, y, z, w) quaternions, in numpy."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return np.array(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    )

@@ -26,6 +26,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
+from reference import qmul
 from reference_motion import motion_constants, reference_motion, rel_errors
 
 EPS = float(np.finfo(float).eps)
@@ -472,19 +473,6 @@ def test_orientation_false_gives_the_same_omega(method, kw):
 # ---------------------------------------------------------------------------------------------
 
 
-def _qmul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return np.array(
-        [
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    )
-
-
 @functools.cache
 def _tensor_reference(inertia_key, omega0, quat0, t_end, n):
     """scipy DOP853 on I w' = -w x I w with the full tensor, and q' = q (x) (0, w) / 2."""
@@ -494,7 +482,7 @@ def _tensor_reference(inertia_key, omega0, quat0, t_end, n):
     def rhs(t, y):
         w = y[:3]
         return np.concatenate(
-            [-inverse @ np.cross(w, inertia @ w), 0.5 * _qmul(y[3:], np.append(w, 0.0))]
+            [-inverse @ np.cross(w, inertia @ w), 0.5 * qmul(y[3:], np.append(w, 0.0))]
         )
 
     times = np.linspace(0.0, t_end, n)

@@ -30,6 +30,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
+from reference import qmul
 from reference_motion import motion_constants, reference_motion, rel_errors
 
 EPS = float(np.finfo(float).eps)
@@ -172,19 +173,6 @@ def check_dop853(label, moments, omega0, times, w_ref, q_ref, quat0=Q0, rtol=1e-
         tol = max(1e-10, 10 * rtol * float(np.max(np.abs(omega0))) * float(times[-1]))
     err = max_err(sol.omega, sol.quaternion, w_ref, q_ref)
     assert err <= tol, f"{label}: dop853 at rtol {rtol}: error {err:.2e} > {tol:.0e}"
-
-
-def qmul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return np.array(
-        [
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    )
 
 
 # ---------------------------------------------------------------------------------------------
