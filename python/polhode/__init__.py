@@ -8,6 +8,7 @@ from polhode import torque
 from polhode._core import InertiaError, PolhodeError
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
+from polhode.perturbation import perturbation
 from polhode.principal_axes import Principal, principal
 from polhode.simulation import Trajectory, simulate
 
@@ -19,6 +20,7 @@ __all__ = [
     "Principal",
     "Trajectory",
     "analyze",
+    "perturbation",
     "principal",
     "simulate",
     "torque",
