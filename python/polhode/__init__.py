@@ -4,7 +4,7 @@ Mass properties and principal axes (:class:`Body`, :func:`principal`), motion
 (:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); see the README.
 """
 
-from polhode import torque
+from polhode import plot, torque
 from polhode._core import InertiaError, PolhodeError
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
@@ -21,6 +21,7 @@ __all__ = [
     "Trajectory",
     "analyze",
     "perturbation",
+    "plot",
     "principal",
     "simulate",
     "torque",

@@ -1,0 +1,326 @@
+"""Plots of the motion (matplotlib, the ``plot`` extra).
+
+Every function draws on an ``ax`` if given, otherwise on a new :class:`matplotlib.figure.Figure`
+(never pyplot's global state, so it works headless), and returns the Axes. matplotlib is imported
+inside the functions: ``import polhode`` never needs it.
+
+Lines are tagged with ``Line2D.get_gid()`` so their data can be found again (the tests do):
+``"omega1"``.., ``"drift:energy"``.., ``"polhode:<T>"``, ``"separatrix"``, ``"trajectory"``,
+``"herpolhode"``, ``"work_precision:<name>"``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from polhode.simulation import Trajectory
+
+__all__ = ["drift", "herpolhode", "omega", "polhode", "work_precision"]
+
+#: Errors below this are drawn at this value so a log axis can show exact zeros.
+FLOOR = 1e-17
+
+
+def _new_axes(projection: str | None = None) -> Axes:
+    from matplotlib.figure import Figure
+
+    if projection == "3d":
+        import mpl_toolkits.mplot3d  # noqa: F401  (registers the projection)
+
+    figure = Figure(figsize=(6.4, 4.8), layout="constrained")
+    return figure.add_subplot(projection=projection)
+
+
+def _single(traj: Trajectory, what: str) -> None:
+    if np.ndim(traj.omega) != 2:
+        raise ValueError(
+            f"{what} plots one trajectory; got a batch of {np.shape(traj.omega)[0]} "
+            "(index it first, e.g. a Trajectory built from traj.omega[k])."
+        )
+
+
+def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
+    """The three body-axis components of the angular velocity against time."""
+    _single(traj, "omega")
+    ax = _new_axes() if ax is None else ax
+    for k in range(3):
+        ax.plot(traj.t, traj.omega[:, k], label=f"omega{k + 1}", gid=f"omega{k + 1}")
+    ax.set_xlabel("t")
+    ax.set_ylabel("omega (body axes)")
+    ax.set_title("Angular velocity")
+    ax.legend()
+    return ax
+
+
+def relative_drift(traj: Trajectory) -> dict[str, NDArray[np.float64]]:
+    """Relative errors against t[0] of T, |L| (body axes) and L in space: |L(t) - L(0)|/|L(0)|.
+
+    The space entry is missing when the trajectory has no orientation.
+    """
+    _single(traj, "drift")
+    energy = np.asarray(traj.energy, dtype=np.float64)
+    out = {"energy": np.abs(energy - energy[0]) / abs(energy[0])}
+    norm = np.linalg.norm(traj.angular_momentum_body, axis=-1)
+    out["|L| body"] = np.abs(norm - norm[0]) / norm[0]
+    if traj.angular_momentum is not None:
+        L = np.asarray(traj.angular_momentum, dtype=np.float64)
+        out["L space"] = np.linalg.norm(L - L[0], axis=-1) / np.linalg.norm(L[0])
+    return out
+
+
+def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axes:
+    """Relative drift of the invariants against time on a log axis.
+
+    Curves (in this order): T, |L| in body axes, L in space (if the trajectory has an
+    orientation); values below ``floor`` (exact zeros) are drawn at the floor, shown dashed.
+    """
+    errors = relative_drift(traj)
+    ax = _new_axes() if ax is None else ax
+    labels = {"energy": "T", "|L| body": "|L| (body)", "L space": "L (space)"}
+    for key, values in errors.items():
+        ax.semilogy(traj.t, np.maximum(values, floor), label=labels[key], gid=f"drift:{key}")
+    ax.axhline(floor, color="0.5", linestyle="--", linewidth=0.8, gid="floor")
+    ax.annotate(
+        f"floor {floor:.0e} (zero error)",
+        xy=(0.01, floor),
+        xycoords=("axes fraction", "data"),
+        xytext=(0, 3),
+        textcoords="offset points",
+        fontsize="small",
+        color="0.4",
+    )
+    ax.set_xlabel("t")
+    ax.set_ylabel("relative error")
+    ax.set_title("Drift of the invariants")
+    ax.legend()
+    return ax
+
+
+def _default_energies(moments: NDArray[np.float64], l2: float) -> list[float]:
+    """Kinetic energies spread on both sides of the separatrix, as D = L^2/(2T) in (I1, I3)."""
+    i1, i2, i3 = moments
+    ds = [i1 + (i2 - i1) * f for f in (0.15, 0.4, 0.65, 0.88)]
+    ds += [i2 + (i3 - i2) * f for f in (0.12, 0.35, 0.6, 0.85)]
+    ds = [d for d in ds if i1 < d < i3 and d != i2]
+    return [l2 / (2.0 * d) for d in ds]
+
+
+def polhode_curves(
+    moments: Sequence[float], angular_momentum_norm: float, energy: float, n: int = 400
+) -> list[NDArray[np.float64]]:
+    """The closed curve(s) where the sphere |L| = const meets the ellipsoid sum L_i^2/I_i = 2T.
+
+    Returns one (n, 3) array per branch (body principal axes, moments ascending): two branches,
+    one around +axis and one around -axis (axis 1 if 2T > L^2/I2, axis 3 if below).
+    """
+    i1, i2, i3 = (float(m) for m in moments)
+    l2 = float(angular_momentum_norm) ** 2
+    two_t = 2.0 * float(energy)
+    if not (l2 / i3 <= two_t <= l2 / i1):
+        raise ValueError(
+            f"Expected the energy in [L^2/(2 I3), L^2/(2 I1)] = [{l2 / (2 * i3)}, "
+            f"{l2 / (2 * i1)}] for |L| = {angular_momentum_norm}, got {energy}."
+        )
+    phi = np.linspace(0.0, 2.0 * np.pi, n)
+    c, s = np.cos(phi), np.sin(phi)
+    if two_t < l2 / i2 or (i1 == i2 and two_t <= l2 / i1):
+        # around axis 3: L1^2 (1/I1 - 1/I3) + L2^2 (1/I2 - 1/I3) = 2T - L^2/I3
+        rhs = max(two_t - l2 / i3, 0.0)
+        a = np.sqrt(rhs / (1 / i1 - 1 / i3)) * c
+        b = np.sqrt(rhs / (1 / i2 - 1 / i3)) * s
+        rest = np.sqrt(np.maximum(l2 - a * a - b * b, 0.0))
+        return [np.column_stack([a, b, sign * rest]) for sign in (1.0, -1.0)]
+    # around axis 1: L2^2 (1/I1 - 1/I2) + L3^2 (1/I1 - 1/I3) = L^2/I1 - 2T
+    rhs = max(l2 / i1 - two_t, 0.0)
+    b = np.sqrt(rhs / (1 / i1 - 1 / i2)) * c if i1 != i2 else 0.0 * c
+    d = np.sqrt(rhs / (1 / i1 - 1 / i3)) * s
+    rest = np.sqrt(np.maximum(l2 - b * b - d * d, 0.0))
+    return [np.column_stack([sign * rest, b, d]) for sign in (1.0, -1.0)]
+
+
+def separatrix_curves(
+    moments: Sequence[float], angular_momentum_norm: float, n: int = 400
+) -> list[NDArray[np.float64]]:
+    """The separatrices 2T = L^2/I2 on the sphere: two great circles L3 = +-k L1, with
+    k^2 = (1/I1 - 1/I2)/(1/I2 - 1/I3). Empty for a symmetric body (I1 = I2 or I2 = I3)."""
+    i1, i2, i3 = (float(m) for m in moments)
+    if not i1 < i2 < i3:
+        return []
+    L = float(angular_momentum_norm)
+    k = np.sqrt((1 / i1 - 1 / i2) / (1 / i2 - 1 / i3))
+    phi = np.linspace(0.0, 2.0 * np.pi, n)
+    l1 = L * np.cos(phi) / np.sqrt(1.0 + k * k)
+    l2 = L * np.sin(phi)
+    return [np.column_stack([l1, l2, sign * k * l1]) for sign in (1.0, -1.0)]
+
+
+def polhode(
+    moments: Sequence[float] | None = None,
+    angular_momentum_norm: float | None = None,
+    energies: Sequence[float] | None = None,
+    ax: Axes | None = None,
+    *,
+    traj: Trajectory | None = None,
+    sphere: bool = True,
+    n: int = 400,
+) -> Axes:
+    """The polhode: the body angular momentum on the sphere |L| = const (3D axes).
+
+    Parameters
+    ----------
+    moments : (3,) principal moments, ascending; default ``traj.moments``.
+    angular_momentum_norm : |L|; default |L| of ``traj`` at t[0], else 1.
+    energies : kinetic energies T, one closed curve pair (both branches) each; default eight
+        levels on both sides of the separatrix.
+    ax : a 3D Axes (``projection="3d"``) or None for a new figure.
+    traj : a trajectory whose ``angular_momentum_body`` is overlaid (it is in the body's own
+        axes: simulate with principal moments, or a body whose axes are principal).
+    sphere : draw a faint wireframe of the sphere.
+    n : points per curve.
+
+    The separatrices (2T = L^2/I2) are drawn in black, the energy levels in colour.
+    """
+    if traj is not None:
+        _single(traj, "polhode")
+    if moments is None:
+        if traj is None:
+            raise TypeError("polhode() needs `moments` or `traj`.")
+        moments = traj.moments
+    m = np.asarray(moments, dtype=np.float64)
+    if m.shape != (3,) or not np.all(np.isfinite(m)) or np.any(m <= 0):
+        raise ValueError(f"Expected three positive finite principal moments, got {moments!r}.")
+    if np.any(np.diff(m) < 0):
+        raise ValueError(f"Expected the principal moments ascending, got {m.tolist()}.")
+    if m[0] == m[2]:
+        raise ValueError("A spherical top (I1 = I2 = I3) has no polhode: every axis is fixed.")
+    if angular_momentum_norm is None:
+        angular_momentum_norm = (
+            1.0 if traj is None else float(np.linalg.norm(traj.angular_momentum_body[0]))
+        )
+    L = float(angular_momentum_norm)
+    if energies is None:
+        energies = _default_energies(m, L * L)
+
+    ax = _new_axes("3d") if ax is None else ax
+    if sphere:
+        u, v = np.mgrid[0 : 2 * np.pi : 25j, 0 : np.pi : 13j]
+        ax.plot_wireframe(
+            L * np.cos(u) * np.sin(v),
+            L * np.sin(u) * np.sin(v),
+            L * np.cos(v),
+            color="0.85",
+            linewidth=0.4,
+        )
+    from matplotlib import colormaps
+
+    cmap = colormaps["viridis"]
+    t_lo, t_hi = L * L / (2 * m[2]), L * L / (2 * m[0])
+    for energy in energies:
+        color = cmap((energy - t_lo) / (t_hi - t_lo) if t_hi > t_lo else 0.5)
+        for curve in polhode_curves(m, L, energy, n):
+            ax.plot(*curve.T, color=color, linewidth=1.0, gid=f"polhode:{float(energy)!r}")
+    for k, curve in enumerate(separatrix_curves(m, L, n)):
+        ax.plot(
+            *curve.T,
+            color="black",
+            linewidth=1.8,
+            linestyle="--",
+            gid="separatrix",
+            label="separatrix" if k == 0 else None,
+        )
+    if traj is not None:
+        Lb = np.asarray(traj.angular_momentum_body, dtype=np.float64)
+        ax.plot(*Lb.T, color="tab:red", linewidth=2.0, gid="trajectory", label="trajectory")
+    ax.set_xlabel("L1")
+    ax.set_ylabel("L2")
+    ax.set_zlabel("L3")
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_title("Polhode: L on |L| = const (body axes)")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper left")
+    return ax
+
+
+def invariable_plane_basis(
+    angular_momentum: Sequence[float], hint: Sequence[float] | None = None
+) -> NDArray[np.float64]:
+    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/|L|; e1 along the part of
+    ``hint`` perpendicular to n when that is not zero."""
+    n = np.asarray(angular_momentum, dtype=np.float64)
+    n = n / np.linalg.norm(n)
+    candidates = [] if hint is None else [np.asarray(hint, dtype=np.float64)]
+    candidates += list(np.eye(3)[np.argsort(np.abs(n))])
+    for c in candidates:
+        e1 = c - np.dot(c, n) * n
+        norm = np.linalg.norm(e1)
+        if norm > 1e-8 * max(np.linalg.norm(c), 1e-300):
+            e1 = e1 / norm
+            break
+    e2 = np.cross(n, e1)
+    return np.array([e1, e2, n])
+
+
+def omega_space(traj: Trajectory) -> NDArray[np.float64]:
+    """The angular velocity in space axes, (M, 3)."""
+    from scipy.spatial.transform import Rotation
+
+    _single(traj, "herpolhode")
+    if traj.quaternion is None:
+        raise ValueError("The herpolhode needs the orientation: simulate with orientation=True.")
+    return np.asarray(Rotation.from_quat(traj.quaternion).apply(traj.omega), dtype=np.float64)
+
+
+def herpolhode(traj: Trajectory, ax: Axes | None = None) -> Axes:
+    """The herpolhode: the tip of omega in space, in the invariable plane (perpendicular to L).
+
+    Coordinates are along e1, e2 of :func:`invariable_plane_basis` for L(t0), with e1 along the
+    initial omega's part in the plane; the component along L, 2T/|L|, is constant and dropped.
+    """
+    w = omega_space(traj)
+    basis = invariable_plane_basis(traj.angular_momentum[0], hint=w[0])
+    xy = w @ basis[:2].T
+    ax = _new_axes() if ax is None else ax
+    ax.plot(xy[:, 0], xy[:, 1], color="tab:blue", linewidth=1.0, gid="herpolhode")
+    ax.plot([0.0], [0.0], marker="+", color="black", markersize=10, gid="L axis", label="L axis")
+    ax.plot(
+        xy[:1, 0], xy[:1, 1], marker="o", color="tab:red", linestyle="", gid="start", label="t0"
+    )
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("omega . e1 (invariable plane)")
+    ax.set_ylabel("omega . e2 (invariable plane)")
+    ax.set_title("Herpolhode")
+    ax.legend(loc="upper right")
+    return ax
+
+
+def work_precision(
+    results: Mapping[str, tuple[Any, Any]], ax: Axes | None = None, floor: float = FLOOR
+) -> Axes:
+    """Error against (wall) time on log-log axes, one series per name: ``{name: (times,
+    errors)}``. Errors below ``floor`` are drawn at the floor."""
+    ax = _new_axes() if ax is None else ax
+    for name, (times, errors) in results.items():
+        x = np.asarray(times, dtype=np.float64)
+        y = np.maximum(np.asarray(errors, dtype=np.float64), floor)
+        if x.shape != y.shape or x.ndim != 1:
+            raise ValueError(
+                f"Expected matching 1-D times and errors for {name!r}, got {x.shape}, {y.shape}."
+            )
+        order = np.argsort(x, kind="stable")
+        ax.loglog(x[order], y[order], marker="o", label=str(name), gid=f"work_precision:{name}")
+    from matplotlib.ticker import NullFormatter
+
+    ax.xaxis.set_minor_formatter(NullFormatter())  # crowded labels over less than a decade
+    ax.set_xlabel("time")
+    ax.set_ylabel("error")
+    ax.set_title("Work-precision")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return ax
