@@ -215,7 +215,11 @@ class Function(Torque):
 
     Declare ``depends_on_attitude=False`` or ``depends_on_omega=False`` when true (a wrong
     declaration gives wrong results) and the times at which it jumps (``discontinuities``), so
-    that no step straddles a jump.
+    that no step straddles a jump. For a smooth torque that acts only on an interval, prefer
+    ``Window(Function(smooth), start, end)`` to a function that switches itself: the window is
+    decided once per segment while the smooth part is evaluated at every stage, which keeps
+    the order-4 and order-6 splittings at their full order (a self-switching function costs
+    them about three orders).
     """
 
     def __init__(
