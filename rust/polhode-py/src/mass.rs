@@ -343,7 +343,7 @@ pub fn principal<'py>(
     })
     .map_err(|e| {
         if single {
-            CoreError(rename_single(e))
+            CoreError(e.map_name(|name| name.replacen("inertia[0]", "inertia", 1)))
         } else {
             CoreError(e)
         }
@@ -362,20 +362,4 @@ pub fn principal<'py>(
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
         .into_pyarray(py);
     Ok((to_py(moments, moments_shape)?, to_py(axes, axes_shape)?, m))
-}
-
-/// For a single tensor, `inertia[0]` in a message is just `inertia`.
-fn rename_single(error: polhode::Error) -> polhode::Error {
-    let fix = |name: String| name.replacen("inertia[0]", "inertia", 1);
-    match error {
-        polhode::Error::NonFinite { name, value } => polhode::Error::NonFinite {
-            name: fix(name),
-            value,
-        },
-        polhode::Error::InvalidInertia { name, reason } => polhode::Error::InvalidInertia {
-            name: fix(name),
-            reason,
-        },
-        other => other,
-    }
 }

@@ -353,7 +353,13 @@ pub fn simulate<'py>(
                 integrate(method, &m, &state, &times, &options)
             }
         };
-        result.map_err(|e| if n > 1 { in_body(e, i) } else { e })
+        result.map_err(|e| {
+            if n > 1 {
+                e.map_name(|name| format!("{name} (body {i})"))
+            } else {
+                e
+            }
+        })
     };
     let results: Vec<polhode::Result<Trajectory>> = py.detach(|| {
         if serial {
@@ -397,25 +403,6 @@ pub fn simulate<'py>(
         quaternion.map(|q| q.into_pyarray(py)),
         stats.into_pyarray(py),
     ))
-}
-
-fn in_body(error: polhode::Error, i: usize) -> polhode::Error {
-    let suffix = |name: String| format!("{name} (body {i})");
-    match error {
-        polhode::Error::NonFinite { name, value } => polhode::Error::NonFinite {
-            name: suffix(name),
-            value,
-        },
-        polhode::Error::NonPositive { name, value } => polhode::Error::NonPositive {
-            name: suffix(name),
-            value,
-        },
-        polhode::Error::InvalidArgument { name, reason } => polhode::Error::InvalidArgument {
-            name: suffix(name),
-            reason,
-        },
-        other => other,
-    }
 }
 
 /// The torque-free motion's invariants: a dict with energy, angular_momentum_norm, regime,

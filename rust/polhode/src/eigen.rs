@@ -445,7 +445,10 @@ fn solve_chunk_generic(
             let tensor = Matrix3::from_row_slice(&t[9 * i..9 * i + 9]);
             match checked_symmetric(&tensor, "inertia") {
                 Ok(a) => lanes.load(l, &a),
-                Err(e) => return Err(rename(e, &format!("inertia[{}]", offset + i))),
+                Err(e) => {
+                    let indexed = format!("inertia[{}]", offset + i);
+                    return Err(e.map_name(|name| name.replacen("inertia", &indexed, 1)));
+                }
             }
         }
         lanes.solve();
@@ -464,22 +467,6 @@ fn solve_chunk_generic(
         }
     }
     Ok(())
-}
-
-/// Replaces the argument name in an error by `name` (keeping any `[r, c]` index suffix).
-fn rename(error: Error, name: &str) -> Error {
-    let fix = |old: String| old.replacen("inertia", name, 1);
-    match error {
-        Error::NonFinite { name, value } => Error::NonFinite {
-            name: fix(name),
-            value,
-        },
-        Error::InvalidInertia { name, reason } => Error::InvalidInertia {
-            name: fix(name),
-            reason,
-        },
-        other => other,
-    }
 }
 
 #[cfg(test)]

@@ -60,6 +60,45 @@ pub enum Error {
     },
 }
 
+impl Error {
+    /// The same error with the argument it names rewritten by `f` (e.g. to add an index or a
+    /// body number); for [`Error::NoConvergence`], the method's name.
+    #[must_use]
+    pub fn map_name(self, f: impl FnOnce(String) -> String) -> Self {
+        match self {
+            Error::NonFinite { name, value } => Error::NonFinite {
+                name: f(name),
+                value,
+            },
+            Error::NonPositive { name, value } => Error::NonPositive {
+                name: f(name),
+                value,
+            },
+            Error::Shape {
+                name,
+                expected,
+                got,
+            } => Error::Shape {
+                name: f(name),
+                expected,
+                got,
+            },
+            Error::InvalidInertia { name, reason } => Error::InvalidInertia {
+                name: f(name),
+                reason,
+            },
+            Error::InvalidArgument { name, reason } => Error::InvalidArgument {
+                name: f(name),
+                reason,
+            },
+            Error::NoConvergence { method, reason } => Error::NoConvergence {
+                method: f(method),
+                reason,
+            },
+        }
+    }
+}
+
 /// `Result` with the core [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
 

@@ -693,30 +693,6 @@ pub fn integrate_batch(
     results
         .into_iter()
         .enumerate()
-        .map(|(i, r)| r.map_err(|e| in_body(e, i)))
+        .map(|(i, r)| r.map_err(|e| e.map_name(|name| format!("{name} (body {i})"))))
         .collect()
-}
-
-/// Suffixes the argument name of `e` with the body index.
-fn in_body(e: Error, i: usize) -> Error {
-    let tag = |name: String| format!("{name} (body {i})");
-    match e {
-        Error::NonFinite { name, value } => Error::NonFinite {
-            name: tag(name),
-            value,
-        },
-        Error::NonPositive { name, value } => Error::NonPositive {
-            name: tag(name),
-            value,
-        },
-        Error::InvalidArgument { name, reason } => Error::InvalidArgument {
-            name: tag(name),
-            reason,
-        },
-        Error::NoConvergence { method, reason } => Error::NoConvergence {
-            method: tag(method),
-            reason,
-        },
-        other => other,
-    }
 }
