@@ -1,0 +1,583 @@
+"""Sweeps over many bodies with Dask: :func:`simulate` and :func:`analyze` chunk by chunk.
+
+The bodies (rows of ``moments`` and ``omega0``) are split into blocks along N; each block is one
+task that calls :func:`polhode.simulate` (or :func:`polhode.analyze` row by row) on its rows, so
+the same code runs on a laptop (the threaded scheduler) or on a ``dask.distributed`` cluster, and
+gives the same numbers bit for bit as one call on the whole batch: every body is integrated on
+its own. Within a block :func:`polhode.simulate` uses all the cores of its worker.
+
+On one machine whose memory holds the result, :func:`polhode.simulate` on the (N, 3) batch is
+simpler and at least as fast; use this module when the sweep outgrows one machine's memory or
+cores (``pip install 'polhode[dask]'``). ``import polhode`` never imports dask.
+
+Results are lazy: each array of a :class:`DaskTrajectory` or :class:`DaskAnalysis` is a field of
+one dask array of per-body records, so ``dask.compute(traj.omega, traj.energy)`` runs every
+block once, and ``.compute()`` gives the numpy result in one pass.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+try:
+    import dask
+    import dask.array as da
+except ImportError as error:  # pragma: no cover - exercised only without the extra
+    raise ImportError(
+        "polhode.dask needs dask: pip install 'polhode[dask]' (dask[array] and distributed)."
+    ) from error
+
+import polhode
+from polhode._coerce import as_integer, as_scalar
+from polhode._core import PolhodeError
+from polhode.simulation import Trajectory, _as_float_array
+
+__all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
+
+#: One body's record must fit numpy's limit on an item (a C int of bytes).
+_MAX_RECORD_BYTES = 2**31 - 1
+#: Width of the string fields of :class:`DaskAnalysis` (the longest regime has 19 characters).
+_REGIME_WIDTH = 32
+
+
+@dataclass(frozen=True)
+class DaskTrajectory:
+    """The motion of N bodies as lazy dask arrays, chunked along N like the input.
+
+    Attributes
+    ----------
+    t : (M,) numpy.ndarray
+        Output times.
+    omega : (N, M, 3) dask.array.Array
+        Angular velocity in body axes.
+    quaternion : (N, M, 4) dask.array.Array or None
+        Body-to-space orientation (x, y, z, w); None with ``orientation=False``.
+    angular_momentum : (N, M, 3) dask.array.Array or None
+        Angular momentum in space axes; None without orientation.
+    angular_momentum_body : (N, M, 3) dask.array.Array
+        Angular momentum in body axes.
+    energy : (N, M) dask.array.Array
+        Rotational kinetic energy.
+    moments : (N, 3) dask.array.Array
+        Principal moments.
+    steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
+        Per-body cost, as in ``Trajectory.stats``.
+    method : str
+        The method used (``"auto"`` resolved).
+    records : (N,) dask.array.Array
+        The per-body records every array above is a field of (structured dtype).
+    """
+
+    t: NDArray[np.float64]
+    omega: da.Array
+    quaternion: da.Array | None
+    angular_momentum: da.Array | None
+    angular_momentum_body: da.Array
+    energy: da.Array
+    moments: da.Array
+    steps: da.Array
+    rejected_steps: da.Array
+    evaluations: da.Array
+    method: str
+    records: da.Array
+
+    def compute(self, **kwargs: Any) -> Trajectory:
+        """Run every block once and return the batch :class:`polhode.Trajectory` (numpy).
+
+        Keywords go to :func:`dask.compute` (e.g. ``scheduler="threads"``). ``stats["wall_time"]``
+        is the wall time of this call.
+        """
+        started = time.perf_counter()
+        (records,) = dask.compute(self.records, **kwargs)
+
+        def field(name: str) -> Any:
+            if name not in records.dtype.names:
+                return None
+            return np.ascontiguousarray(records[name])
+
+        stats = {
+            "method": self.method,
+            "steps": field("steps"),
+            "rejected_steps": field("rejected_steps"),
+            "evaluations": field("evaluations"),
+            "wall_time": time.perf_counter() - started,
+        }
+        return Trajectory(
+            t=self.t,
+            omega=field("omega"),
+            quaternion=field("quaternion"),
+            angular_momentum=field("angular_momentum"),
+            angular_momentum_body=field("angular_momentum_body"),
+            energy=field("energy"),
+            moments=field("moments"),
+            stats=stats,
+        )
+
+    def persist(self, **kwargs: Any) -> DaskTrajectory:
+        """The same trajectory with its blocks computed and kept in (cluster) memory."""
+        (records,) = dask.persist(self.records, **kwargs)
+        return _trajectory(records, self.t, self.method)
+
+
+@dataclass(frozen=True)
+class DaskAnalysis:
+    """:func:`polhode.analyze` of N bodies, one entry per body (dask or, computed, numpy arrays).
+
+    ``None`` in :class:`polhode.Analysis` (no period, no flips, no precession) is NaN here; the
+    ``linearized`` dict is split into ``linearized_axis``, ``linearized_kind`` and
+    ``linearized_rate``.
+
+    Attributes
+    ----------
+    moments, omega : (N, 3)
+        Principal moments ascending, and the initial angular velocity in those axes.
+    energy, angular_momentum : (N,)
+        T and |L|.
+    regime : (N,) str
+    period, flip_interval, precession_rate : (N,) float, NaN where not defined
+    axis_stability : (N, 3) str
+    linearized_axis : (N,) int64
+    linearized_kind : (N,) str
+    linearized_rate : (N,) float
+    """
+
+    moments: Any
+    omega: Any
+    energy: Any
+    angular_momentum: Any
+    regime: Any
+    period: Any
+    flip_interval: Any
+    precession_rate: Any
+    axis_stability: Any
+    linearized_axis: Any
+    linearized_kind: Any
+    linearized_rate: Any
+
+    def compute(self, **kwargs: Any) -> DaskAnalysis:
+        """The same analysis with numpy arrays (every block runs once)."""
+        values = dask.compute(*(getattr(self, f.name) for f in fields(self)), **kwargs)
+        return DaskAnalysis(*(np.ascontiguousarray(v) for v in values))
+
+
+# -------------------------------------------------------------------------------------------------
+# Inputs
+# -------------------------------------------------------------------------------------------------
+
+
+def _shape(shape: tuple[Any, ...]) -> str:
+    return "(" + ", ".join(map(str, shape)) + (",)" if len(shape) == 1 else ")")
+
+
+def _as_input(name: str, value: Any) -> da.Array | NDArray[np.float64]:
+    """A dask array (kept lazy, cast to float64) or a float64 numpy array, (3,) or (N, 3)."""
+    if isinstance(value, da.Array):
+        if value.dtype.kind not in "biuf":
+            raise TypeError(
+                f"Expected `{name}` to be an array of real numbers, got dtype {value.dtype}."
+            )
+        array: Any = value.astype(np.float64)
+    else:
+        array = _as_float_array(name, value)
+    if array.shape != (3,) and not (array.ndim == 2 and array.shape[1] == 3):
+        raise PolhodeError(
+            f"Expected `{name}` to have shape (3,) or (N, 3), got {_shape(array.shape)}."
+        )
+    if array.ndim == 2 and np.isnan(array.shape[0]):
+        raise PolhodeError(
+            f"Expected `{name}` to have a known number of rows, got unknown chunk sizes "
+            "(call .compute_chunk_sizes() first)."
+        )
+    return array
+
+
+def _check_finite_rows(moments: Any, omega0: Any) -> None:
+    """Values of numpy inputs are checked at once (dask inputs when computed)."""
+    if isinstance(moments, np.ndarray):
+        bad = ~(np.isfinite(moments) & (moments > 0))
+        if np.any(bad):
+            row = int(np.argmax(bad.reshape(-1, 3).any(axis=1)))
+            raise PolhodeError(
+                "Expected `moments` to be positive and finite (Euler's equations need I^-1), "
+                f"got {moments.reshape(-1, 3)[row].tolist()} in row {row}."
+            )
+    if isinstance(omega0, np.ndarray):
+        bad = ~np.isfinite(omega0)
+        if np.any(bad):
+            row = int(np.argmax(bad.reshape(-1, 3).any(axis=1)))
+            raise PolhodeError(
+                f"Expected `omega0` to be finite, got {omega0.reshape(-1, 3)[row].tolist()} "
+                f"in row {row}."
+            )
+
+
+def _rows(moments: Any, omega0: Any) -> int:
+    """The number of bodies N; a (3,) input is shared by all (N = 1 if both are)."""
+    n_moments = int(moments.shape[0]) if moments.ndim == 2 else None
+    n_omega = int(omega0.shape[0]) if omega0.ndim == 2 else None
+    if n_moments is not None and n_omega is not None and n_moments != n_omega:
+        raise PolhodeError(
+            f"Expected `omega0` to have shape (3,) or ({n_moments}, 3) to match `moments`, "
+            f"got {_shape(omega0.shape)}."
+        )
+    return next((k for k in (n_moments, n_omega) if k is not None), 1)
+
+
+def _row_chunks(chunks: Any, n: int, record_bytes: int, *arrays: Any) -> tuple[int, ...]:
+    """Rows per block: ``chunks`` if given, else the first dask input's, else blocks of about
+    dask's ``array.chunk-size`` of output."""
+    if chunks is not None:
+        size = as_integer("chunks", chunks, minimum=1)
+        return da.core.normalize_chunks((size,), (n,))[0]
+    for array in arrays:
+        if isinstance(array, da.Array) and array.ndim >= 2:
+            return tuple(int(c) for c in array.chunks[0])
+    from dask.utils import parse_bytes
+
+    target = parse_bytes(dask.config.get("array.chunk-size"))
+    size = max(1, target // max(record_bytes, 1))
+    return da.core.normalize_chunks((size,), (n,))[0]
+
+
+def _blocked(array: Any, n: int, row_chunks: tuple[int, ...]) -> da.Array:
+    """(N, ...) dask array with the given row chunks and one chunk along every other axis; a
+    (3,) row is broadcast to every body."""
+    if array.ndim == 1:
+        if not isinstance(array, da.Array):
+            array = da.from_array(array, chunks=-1)
+        return da.broadcast_to(array, (n, 3), chunks=(row_chunks, 3))
+    chunks = (row_chunks, *array.shape[1:])
+    if isinstance(array, da.Array):
+        return array.rechunk(chunks)
+    return da.from_array(array, chunks=chunks)
+
+
+def _orientation_input(orientation0: Any, n: int) -> tuple[Any, Any, bool]:
+    """(shared, per_body, stack): one orientation for every body, or an (N, 4) or (N, 3, 3)
+    array; ``stack`` when the array holds the quaternions of a scipy Rotation stack."""
+    if orientation0 is None:
+        return None, None, False
+    from scipy.spatial.transform import Rotation
+
+    if isinstance(orientation0, Rotation):
+        if orientation0.single or len(orientation0) == 1:
+            return orientation0, None, False
+        quaternions = orientation0.as_quat()
+        if quaternions.shape != (n, 4):
+            raise PolhodeError(
+                f"Expected `orientation0` to hold 1 or {n} rotations, got {len(orientation0)}."
+            )
+        return None, quaternions, True
+    if isinstance(orientation0, da.Array):
+        if orientation0.dtype.kind not in "biuf":
+            raise TypeError(
+                "Expected `orientation0` to be an array of real numbers, "
+                f"got dtype {orientation0.dtype}."
+            )
+        per_body = orientation0.astype(np.float64)
+    else:
+        per_body = _as_float_array("orientation0", orientation0)
+    if per_body.shape in ((4,), (3, 3)) or (per_body.ndim >= 2 and per_body.shape[0] == 1):
+        return np.asarray(per_body), None, False  # one rotation for all: small, computed now
+    if per_body.shape not in ((n, 4), (n, 3, 3)):
+        raise PolhodeError(
+            "Expected `orientation0` to be a scipy Rotation, a (3, 3) matrix, an (x, y, z, w) "
+            f"quaternion, or ({n}, 4) quaternions or ({n}, 3, 3) matrices (one per body), "
+            f"got shape {_shape(per_body.shape)}."
+        )
+    return None, per_body, False
+
+
+def _renamed(error: Exception, rows: NDArray[np.int64] | None = None) -> Exception:
+    """The error of a block, with `body` named `moments` and body indices made global."""
+    message = str(error).replace("`body`", "`moments`")
+    if rows is not None and rows.size:
+        start = int(rows[0])
+        message = re.sub(r"\(body (\d+)\)", lambda m: f"(body {start + int(m[1])})", message)
+        message = f"In the block of bodies {start}..{int(rows[-1])}: {message}"
+    return type(error)(message)
+
+
+# -------------------------------------------------------------------------------------------------
+# simulate
+# -------------------------------------------------------------------------------------------------
+
+
+def _record_dtype(dry: Trajectory) -> np.dtype[Any]:
+    m = dry.t.shape[0]
+    names = ["omega", "quaternion", "angular_momentum", "angular_momentum_body", "energy"]
+    items: list[tuple[str, Any, tuple[int, ...]]] = []
+    for name in names:
+        value = getattr(dry, name)
+        if value is not None:
+            items.append((name, value.dtype, (m, *value.shape[2:])))
+    items.append(("moments", dry.moments.dtype, (3,)))
+    for name in ("steps", "rejected_steps", "evaluations"):
+        items.append((name, dry.stats[name].dtype, ()))
+    size = sum(np.dtype(t).itemsize * int(np.prod(s)) for _, t, s in items)
+    if size > _MAX_RECORD_BYTES:
+        raise PolhodeError(
+            f"Expected fewer output times `t` for polhode.dask: one body's trajectory at {m} "
+            f"times takes {size} bytes, over numpy's limit of {_MAX_RECORD_BYTES} per record; "
+            "split `t` into several runs."
+        )
+    return np.dtype(items)
+
+
+def _simulate_block(
+    rows: NDArray[np.int64],
+    moments: NDArray[np.float64],
+    omega0: NDArray[np.float64],
+    *rest: Any,
+    t: Any,
+    record_dtype: np.dtype[Any],
+    options: dict[str, Any],
+    stack: bool = False,
+) -> NDArray[Any]:
+    if rest:  # one orientation per body
+        orientation0 = rest[0]
+        if stack:
+            from scipy.spatial.transform import Rotation
+
+            # The very quaternions of the caller's Rotation: from_quat would normalize them
+            # again and change the last bits.
+            orientation0 = Rotation(orientation0, normalize=False)
+        options = {**options, "orientation0": orientation0}
+    try:
+        traj = polhode.simulate(moments, omega0, t, **options)
+    except PolhodeError as error:
+        raise _renamed(error, rows) from error
+    records = np.empty(moments.shape[0], dtype=record_dtype)
+    for name in record_dtype.names or ():
+        records[name] = traj.stats[name] if name in traj.stats else getattr(traj, name)
+    return records
+
+
+def _field(records: da.Array, name: str) -> da.Array:
+    """One field of the (N,) records as an (N, ...) dask array (a view of each block)."""
+    base, shape = records.dtype[name].base, records.dtype[name].shape
+    return records.map_blocks(
+        _get_field,
+        name,
+        token=f"polhode-{name}",
+        chunks=(records.chunks[0], *((d,) for d in shape)),
+        new_axis=list(range(1, 1 + len(shape))) or None,
+        dtype=base,
+        meta=np.empty((0,) * (1 + len(shape)), dtype=base),
+    )
+
+
+def _get_field(records: NDArray[Any], name: str) -> NDArray[Any]:
+    return records[name]
+
+
+def _trajectory(records: da.Array, t: NDArray[np.float64], method: str) -> DaskTrajectory:
+    names = records.dtype.names or ()
+
+    def field(name: str) -> da.Array | None:
+        return _field(records, name) if name in names else None
+
+    return DaskTrajectory(
+        t=t,
+        omega=_field(records, "omega"),
+        quaternion=field("quaternion"),
+        angular_momentum=field("angular_momentum"),
+        angular_momentum_body=_field(records, "angular_momentum_body"),
+        energy=_field(records, "energy"),
+        moments=_field(records, "moments"),
+        steps=_field(records, "steps"),
+        rejected_steps=_field(records, "rejected_steps"),
+        evaluations=_field(records, "evaluations"),
+        method=method,
+        records=records,
+    )
+
+
+def simulate(
+    moments: Any,
+    omega0: Any,
+    t: Any,
+    *,
+    orientation0: Any = None,
+    chunks: int | None = None,
+    **options: Any,
+) -> DaskTrajectory:
+    """:func:`polhode.simulate` of N bodies, block by block along N (lazy).
+
+    Parameters
+    ----------
+    moments : (N, 3) or (3,) dask.array.Array or array_like
+        Principal moments of each body (a (3,) row is shared by all).
+    omega0 : (N, 3) or (3,) dask.array.Array or array_like
+        Initial angular velocity in principal axes.
+    t : float or (M,) array_like
+        Output times or an end time, as in :func:`polhode.simulate` (numpy, shared by all).
+    orientation0 : optional
+        One orientation for every body (scipy Rotation, (3, 3) matrix, xyzw quaternion), or one
+        per body: (N, 4) quaternions or (N, 3, 3) matrices (dask or numpy).
+    chunks : int, optional
+        Bodies per block. Default: the row chunks of the first dask input; for numpy inputs,
+        blocks whose output is about dask's ``array.chunk-size`` (128 MiB).
+    **options
+        Every other keyword of :func:`polhode.simulate` (``method``, ``dt``, ``order``, ``rtol``,
+        ``atol``, ``torque``, ``t0``, ``orientation``, ``max_steps``).
+
+    Returns
+    -------
+    DaskTrajectory
+        Lazy (N, M, ...) arrays, always with the leading N; ``.compute()`` gives the
+        :class:`polhode.Trajectory` that ``polhode.simulate`` returns for the whole batch, with
+        identical numbers.
+
+    Shapes, types, ``t`` and every keyword are checked at once, as are numpy values of
+    ``moments``, ``omega0`` and ``orientation0``; dask values are checked when their block runs
+    (the error names the block's bodies).
+    """
+    moments = _as_input("moments", moments)
+    omega0 = _as_input("omega0", omega0)
+    n = _rows(moments, omega0)
+    shared, per_body, stack = _orientation_input(orientation0, n)
+    # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
+    dry_orientation = shared if per_body is None else np.zeros((0, *per_body.shape[1:]))
+    try:
+        dry = polhode.simulate(
+            np.zeros((0, 3)), np.zeros((0, 3)), t, orientation0=dry_orientation, **options
+        )
+    except PolhodeError as error:
+        raise _renamed(error) from error
+    _check_finite_rows(moments, omega0)
+    if isinstance(per_body, np.ndarray) and not stack:
+        t0 = options.get("t0", 0.0)
+        try:  # the per-body rotations, at the initial time only (no steps)
+            polhode.simulate(
+                np.ones((n, 3)), np.zeros((n, 3)), [t0], orientation0=per_body, **options
+            )
+        except PolhodeError as error:
+            raise _renamed(error) from error
+    dtype = _record_dtype(dry)
+    row_chunks = _row_chunks(chunks, n, dtype.itemsize, moments, omega0, per_body)
+    args: list[Any] = [
+        da.arange(n, chunks=(row_chunks,)),
+        "i",
+        _blocked(moments, n, row_chunks),
+        "ij",
+        _blocked(omega0, n, row_chunks),
+        "ij",
+    ]
+    if per_body is not None:
+        args += [_blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
+    # Indices j, k, l (the columns) have one chunk each: concatenate hands over plain arrays.
+    records = da.blockwise(
+        _simulate_block,
+        "i",
+        *args,
+        concatenate=True,
+        token="polhode-simulate",
+        dtype=dtype,
+        meta=np.empty((0,), dtype=dtype),
+        t=t,
+        record_dtype=dtype,
+        options=options if per_body is not None else {**options, "orientation0": shared},
+        stack=stack,
+    )
+    return _trajectory(records, dry.t, dry.stats["method"])
+
+
+# -------------------------------------------------------------------------------------------------
+# analyze
+# -------------------------------------------------------------------------------------------------
+
+_ANALYSIS_DTYPE = np.dtype(
+    [
+        ("moments", np.float64, (3,)),
+        ("omega", np.float64, (3,)),
+        ("energy", np.float64),
+        ("angular_momentum", np.float64),
+        ("regime", f"U{_REGIME_WIDTH}"),
+        ("period", np.float64),
+        ("flip_interval", np.float64),
+        ("precession_rate", np.float64),
+        ("axis_stability", f"U{_REGIME_WIDTH}", (3,)),
+        ("linearized_axis", np.int64),
+        ("linearized_kind", f"U{_REGIME_WIDTH}"),
+        ("linearized_rate", np.float64),
+    ]
+)
+
+
+def _analyze_block(
+    rows: NDArray[np.int64],
+    moments: NDArray[np.float64],
+    omega0: NDArray[np.float64],
+    *,
+    rtol: float | None,
+) -> NDArray[Any]:
+    records = np.empty(moments.shape[0], dtype=_ANALYSIS_DTYPE)
+    for k in range(moments.shape[0]):
+        try:
+            a = polhode.analyze(moments[k], omega0[k], rtol)
+        except PolhodeError as error:
+            raise type(error)(
+                f"Body {int(rows[k])}: " + str(error).replace("`body`", "`moments`")
+            ) from error
+        strings = (a.regime, a.linearized["kind"], *a.axis_stability)
+        if max(map(len, strings)) > _REGIME_WIDTH:  # numpy would truncate silently
+            raise AssertionError(f"polhode.dask: widen _REGIME_WIDTH for {strings}")
+        records[k] = (
+            a.moments,
+            a.omega,
+            a.energy,
+            a.angular_momentum,
+            a.regime,
+            np.nan if a.period is None else a.period,
+            np.nan if a.flip_interval is None else a.flip_interval,
+            np.nan if a.precession_rate is None else a.precession_rate,
+            a.axis_stability,
+            a.linearized["axis"],
+            a.linearized["kind"],
+            a.linearized["rate"],
+        )
+    return records
+
+
+def analyze(
+    moments: Any, omega0: Any, *, rtol: float | None = None, chunks: int | None = None
+) -> DaskAnalysis:
+    """:func:`polhode.analyze` of N bodies, block by block along N (lazy).
+
+    ``moments`` and ``omega0`` as in :func:`simulate` ((N, 3) or a shared (3,) row, dask or
+    numpy); ``rtol`` as in :func:`polhode.analyze`. Each block analyzes its bodies one by one
+    (Python per body, about 20 us), so spreading the blocks over processes pays off here even on
+    one machine. ``chunks`` (bodies per block) as in :func:`simulate`.
+    """
+    moments = _as_input("moments", moments)
+    omega0 = _as_input("omega0", omega0)
+    if rtol is not None:
+        rtol = as_scalar("rtol", rtol)
+        if not (np.isfinite(rtol) and rtol >= 0):
+            raise PolhodeError(f"Expected `rtol` to be non-negative and finite, got {rtol}.")
+    n = _rows(moments, omega0)
+    _check_finite_rows(moments, omega0)
+    row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
+    records = da.blockwise(
+        _analyze_block,
+        "i",
+        da.arange(n, chunks=(row_chunks,)),
+        "i",
+        _blocked(moments, n, row_chunks),
+        "ij",
+        _blocked(omega0, n, row_chunks),
+        "ij",
+        concatenate=True,
+        token="polhode-analyze",
+        dtype=_ANALYSIS_DTYPE,
+        meta=np.empty((0,), dtype=_ANALYSIS_DTYPE),
+        rtol=rtol,
+    )
+    return DaskAnalysis(*(_field(records, f.name) for f in fields(DaskAnalysis)))

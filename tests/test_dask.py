@@ -1,0 +1,259 @@
+"""polhode.dask: block by block along N gives the very numbers of one polhode.simulate (or
+polhode.analyze per body) call, in process and on a two-worker distributed cluster."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+da = pytest.importorskip("dask.array")
+import dask  # noqa: E402
+from dask.callbacks import Callback  # noqa: E402
+
+import polhode as ph  # noqa: E402
+import polhode.dask as phd  # noqa: E402
+
+N = 300
+T = np.linspace(0.0, 4.0, 9)
+METHODS = {
+    "exact": {},
+    "rk4": {"dt": 0.01},
+    "splitting": {"dt": 0.02, "order": 4},
+    "dop853": {"rtol": 1e-9},
+}
+FIELDS = ("omega", "quaternion", "angular_momentum", "angular_momentum_body", "energy", "moments")
+STATS = ("steps", "rejected_steps", "evaluations")
+
+
+@pytest.fixture(scope="module")
+def bodies():
+    rng = np.random.default_rng(7)
+    moments = np.sort(rng.uniform(1.0, 4.0, (N, 3)), axis=1)
+    moments[:10, 1] = moments[:10, 0]  # symmetric tops
+    omega0 = rng.normal(size=(N, 3))
+    omega0[10:20] = [0.0, 1.0, 1e-3]  # near the intermediate axis: flips
+    return moments, omega0
+
+
+def assert_same_trajectory(actual, expected):
+    """Bit for bit: every array of the trajectory and the per-body cost."""
+    np.testing.assert_array_equal(actual.t, expected.t)
+    for name in FIELDS:
+        a, e = getattr(actual, name), getattr(expected, name)
+        if e is None:
+            assert a is None, name
+        else:
+            assert a.shape == e.shape and a.dtype == e.dtype, name
+            assert np.array_equal(a, e), name
+    for name in STATS:
+        assert np.array_equal(actual.stats[name], expected.stats[name]), name
+    assert actual.stats["method"] == expected.stats["method"]
+
+
+@pytest.mark.parametrize("scheduler", ["sync", "threads"])
+@pytest.mark.parametrize("method", list(METHODS))
+def test_blocks_equal_one_batch_bitwise(bodies, method, scheduler):
+    moments, omega0 = bodies
+    expected = ph.simulate(moments, omega0, T, method=method, **METHODS[method])
+    lazy = phd.simulate(moments, omega0, T, method=method, chunks=64, **METHODS[method])
+    assert lazy.omega.chunks == ((64, 64, 64, 64, 44), (len(T),), (3,))
+    assert lazy.quaternion.shape == (N, len(T), 4) and lazy.energy.shape == (N, len(T))
+    assert_same_trajectory(lazy.compute(scheduler=scheduler), expected)
+    # the lazy arrays computed on their own hold the same numbers
+    omega, energy, steps = dask.compute(lazy.omega, lazy.energy, lazy.steps, scheduler=scheduler)
+    assert np.array_equal(omega, expected.omega) and np.array_equal(energy, expected.energy)
+    assert np.array_equal(steps, expected.stats["steps"])
+
+
+class CountBlocks(Callback):
+    def __init__(self):
+        super().__init__()
+        self.keys = []
+
+    def _posttask(self, key, result, dsk, state, worker_id):
+        if key[0].startswith("polhode-simulate"):
+            self.keys.append(key)
+
+
+def test_fields_share_one_run_per_block(bodies):
+    moments, omega0 = bodies
+    lazy = phd.simulate(moments, omega0, T, method="rk4", dt=0.05, chunks=100)
+    with CountBlocks() as counter:
+        dask.compute(lazy.omega, lazy.quaternion, lazy.energy, scheduler="sync")
+    assert sorted(counter.keys) == sorted(set(counter.keys)) and len(counter.keys) == 3
+
+
+def test_dask_inputs_keep_their_row_chunks_and_columns_are_merged(bodies):
+    moments, omega0 = bodies
+    # rows in uneven blocks, columns split in two: the columns are merged, the rows of
+    # omega0 follow those of moments
+    m = da.from_array(moments, chunks=((100, 150, 50), (2, 1)))
+    w = da.from_array(omega0, chunks=(120, 1))
+    lazy = phd.simulate(m, w, T, method="rk4", dt=0.01)
+    assert lazy.omega.chunks[0] == (100, 150, 50)
+    expected = ph.simulate(moments, omega0, T, method="rk4", dt=0.01)
+    assert_same_trajectory(lazy.compute(scheduler="sync"), expected)
+    # an integer `chunks` rechunks dask input too
+    assert phd.simulate(m, w, T, chunks=128).energy.chunks[0] == (128, 128, 44)
+
+
+def test_shared_row_orientations_and_no_orientation(bodies):
+    moments, omega0 = bodies
+    kwargs = {"method": "splitting", "dt": 0.02}
+    # one row of moments for every body
+    expected = ph.simulate(moments[0], omega0, T, **kwargs)
+    assert_same_trajectory(
+        phd.simulate(moments[0], omega0, T, chunks=50, **kwargs).compute(scheduler="sync"),
+        expected,
+    )
+    # one orientation per body, as dask quaternions or numpy matrices, or one for all
+    rotations = Rotation.random(N, random_state=3)
+    for orientation0 in (
+        da.from_array(rotations.as_quat(), chunks=(70, 4)),
+        rotations.as_matrix(),
+        rotations,
+        Rotation.from_euler("xyz", [0.1, 0.2, 0.3]),
+    ):
+        shared = orientation0 if not isinstance(orientation0, da.Array) else rotations.as_quat()
+        expected = ph.simulate(moments, omega0, T, orientation0=shared, **kwargs)
+        lazy = phd.simulate(moments, omega0, T, orientation0=orientation0, chunks=90, **kwargs)
+        assert_same_trajectory(lazy.compute(scheduler="sync"), expected)
+    expected = ph.simulate(moments, omega0, T, orientation=False, **kwargs)
+    lazy = phd.simulate(moments, omega0, T, orientation=False, chunks=90, **kwargs)
+    assert lazy.quaternion is None and lazy.angular_momentum is None
+    assert_same_trajectory(lazy.compute(scheduler="sync"), expected)
+
+
+def test_end_time_t0_and_persist(bodies):
+    moments, omega0 = bodies
+    expected = ph.simulate(moments, omega0, 3.0, t0=1.0, method="dop853")
+    lazy = phd.simulate(moments, omega0, 3.0, t0=1.0, method="dop853", chunks=128)
+    np.testing.assert_array_equal(lazy.t, [1.0, 3.0])
+    kept = lazy.persist(scheduler="sync")
+    assert_same_trajectory(kept.compute(scheduler="sync"), expected)
+
+
+def test_analyze_equals_analyze_per_body(bodies):
+    moments, omega0 = bodies
+    rows = np.concatenate([moments[:25], [[1.0, 2.0, 3.0]] * 3, [[2.0, 2.0, 2.0]]])
+    omegas = np.concatenate([omega0[:25], [[0.0, 1.0, 0.0], [0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]])
+    omegas = np.concatenate([omegas, [[0.3, 0.0, 1.0]]])
+    lazy = phd.analyze(da.from_array(rows, chunks=7), omegas)
+    assert lazy.regime.chunks == ((7, 7, 7, 7, 1),)
+    got = lazy.compute(scheduler="sync")
+    regimes = set()
+    for k in range(len(rows)):
+        a = ph.analyze(rows[k], omegas[k])
+        regimes.add(a.regime)
+        assert np.array_equal(got.moments[k], a.moments)
+        assert np.array_equal(got.omega[k], a.omega)
+        assert got.energy[k] == a.energy and got.angular_momentum[k] == a.angular_momentum
+        assert got.regime[k] == a.regime
+        for name in ("period", "flip_interval", "precession_rate"):
+            value, got_value = getattr(a, name), getattr(got, name)[k]
+            assert np.isnan(got_value) if value is None else got_value == value, name
+        assert tuple(got.axis_stability[k]) == a.axis_stability
+        assert got.linearized_axis[k] == a.linearized["axis"]
+        assert got.linearized_kind[k] == a.linearized["kind"]
+        assert got.linearized_rate[k] == a.linearized["rate"]
+    assert {"symmetric", "steady_intermediate", "rest", "spherical"} <= regimes
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "fragment"),
+    [
+        (lambda m, w: phd.simulate(m[:, :2], w, T), ph.PolhodeError, "`moments`.*(N, 3)"),
+        (lambda m, w: phd.simulate(m, w[:10], T), ph.PolhodeError, "`omega0`"),
+        (lambda m, w: phd.simulate("1 2 3", w, T), TypeError, "`moments`"),
+        (lambda m, w: phd.simulate(da.from_array(m.astype(complex)), w, T), TypeError, "moments"),
+        (lambda m, w: phd.simulate(m, w, T, method="euler"), ph.PolhodeError, "`method`"),
+        (lambda m, w: phd.simulate(m, w, T, method="rk4"), ph.PolhodeError, "`dt`"),
+        (lambda m, w: phd.simulate(m, w, T[::-1]), ph.PolhodeError, "`t`"),
+        (lambda m, w: phd.simulate(m, w, T, chunks=0), ph.PolhodeError, "`chunks`"),
+        (lambda m, w: phd.simulate(m, w, T, chunks=2.5), TypeError, "`chunks`"),
+        (lambda m, w: phd.simulate(m, w, T, speed=2), TypeError, "speed"),
+        (lambda m, w: phd.simulate(-m, w, T), ph.PolhodeError, "`moments`.*row 0"),
+        (
+            lambda m, w: phd.simulate(m, np.where(np.arange(N)[:, None] == 5, np.nan, w), T),
+            ph.PolhodeError,
+            "`omega0`.*row 5",
+        ),
+        (
+            lambda m, w: phd.simulate(m, w, T, orientation0=np.ones((7, 4))),
+            ph.PolhodeError,
+            "`orientation0`",
+        ),
+        (
+            lambda m, w: phd.simulate(m, w, T, orientation0=np.zeros((N, 4))),
+            ph.PolhodeError,
+            "`orientation0`",
+        ),
+        (lambda m, w: phd.analyze(m, w, rtol=-1.0), ph.PolhodeError, "`rtol`"),
+        (lambda m, w: phd.analyze(m, w[:3]), ph.PolhodeError, "`omega0`"),
+        (lambda m, w: phd.analyze(np.zeros_like(m), w), ph.PolhodeError, "`moments`"),
+    ],
+)
+def test_bad_input_raises_at_once(bodies, call, error, fragment):
+    with pytest.raises(error, match=fragment):
+        call(*bodies)
+
+
+def test_bad_values_in_dask_input_raise_when_computed_naming_the_body(bodies):
+    moments, omega0 = bodies
+    bad = moments.copy()
+    bad[203, 1] = -1.0
+    lazy = phd.simulate(da.from_array(bad, chunks=100), omega0, T)  # lazy: no error yet
+    with pytest.raises(ph.PolhodeError, match=r"bodies 200\.\.299.*`moments`.*-1\.0"):
+        lazy.compute(scheduler="sync")
+    with pytest.raises(ph.PolhodeError, match=r"Body 203: .*`moments`"):
+        phd.analyze(da.from_array(bad, chunks=100), omega0).compute(scheduler="sync")
+
+
+def test_import_polhode_does_not_import_dask():
+    code = "import sys, polhode; print('dask' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+# -------------------------------------------------------------------------------------------------
+# A real cluster: two worker processes, one thread each
+# -------------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def client():
+    distributed = pytest.importorskip("distributed")
+    # No dashboard: it needs bokeh and a fixed port (8787) that another run may hold, and the
+    # warning about a taken port would fail the run under filterwarnings = error.
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        yield client
+
+
+def test_cluster_gives_identical_numbers(client, bodies):
+    moments, omega0 = bodies
+    assert len(client.scheduler_info()["workers"]) == 2
+    m = da.from_array(moments, chunks=75)
+    for method in ("rk4", "dop853"):
+        expected = ph.simulate(moments, omega0, T, method=method, **METHODS[method])
+        lazy = phd.simulate(m, omega0, T, method=method, **METHODS[method])
+        assert_same_trajectory(lazy.compute(), expected)  # the client's cluster by default
+    got = phd.analyze(m[:40], omega0[:40]).compute()
+    for k in (0, 15, 39):
+        assert got.period[k] == ph.analyze(moments[k], omega0[k]).period
+    # a worker's error comes back with its type and the global body index
+    bad = moments.copy()
+    bad[160, 2] = np.inf
+    with pytest.raises(ph.PolhodeError, match=r"bodies 150\.\.224"):
+        phd.simulate(da.from_array(bad, chunks=75), omega0, T).compute()
