@@ -1,0 +1,924 @@
+"""Speed against error: the benchmark suite behind ``polhode bench`` and ``benchmarks/``.
+
+Every measurement runs polhode and its peers in the same process, alternating between them in
+each repeat so that the machine's noise falls on all alike, and keeps every repeat: tables
+quote medians with the spread. Errors of the motion are measured against :data:`REFERENCE`,
+the state at the end time computed at 30 digits by an independent exact-arithmetic Taylor
+integrator (``tests/reference_motion.py``; ``python -m benchmarks.reference_values``
+regenerates the constants and ``tests/test_bench.py`` checks them), never against another
+double-precision approximation, polhode's exact solution included.
+
+The peers are optional: scipy (a dependency), MuJoCo and trimesh (the ``bench`` extra); a
+series whose peer is not installed is left out and named in the result's ``skipped``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import platform
+import statistics
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+import polhode as ph
+
+__all__ = [
+    "CASES",
+    "Case",
+    "Point",
+    "Series",
+    "WorkPrecision",
+    "cost_at",
+    "drift",
+    "eigensolve",
+    "machine",
+    "mesh",
+    "point_masses",
+    "run",
+    "throughput",
+    "work_precision",
+]
+
+Array = NDArray[np.float64]
+
+
+def machine() -> str:
+    """One line naming the machine and the versions of polhode and numpy."""
+    cpu = platform.processor() or platform.machine()
+    return (
+        f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"numpy {np.__version__}, polhode {ph.__version__}"
+    )
+
+
+def _median(seconds: Sequence[float]) -> float:
+    return float(statistics.median(seconds))
+
+
+def _spread(seconds: Sequence[float]) -> str:
+    return f"{min(seconds) * 1e3:.3g}-{max(seconds) * 1e3:.3g}"
+
+
+# --------------------------------------------------------------------------------------------
+# Work-precision: one body, torque-free, against the exact solution.
+
+
+@dataclass(frozen=True)
+class Case:
+    """A torque-free body: principal moments, initial angular velocity, end time."""
+
+    name: str
+    moments: tuple[float, float, float]
+    omega0: tuple[float, float, float]
+    t_end: float
+    label: str
+
+
+_HLW_M0 = np.array([math.cos(1.1), 0.0, math.sin(1.1)])
+CASES = {
+    "flip": Case(
+        "flip",
+        (1.0, 2.0, 3.0),
+        (0.01, 1.0, 0.01),
+        100.0,
+        "I = (1, 2, 3), omega0 = (0.01, 1, 0.01), t = 100 (five tennis-racket flips)",
+    ),
+    "hlw": Case(
+        "hlw",
+        (2.0, 1.0, 2.0 / 3.0),
+        tuple(float(x) for x in _HLW_M0 / np.array([2.0, 1.0, 2.0 / 3.0])),  # type: ignore[arg-type]
+        100.0,
+        "I = (2, 1, 2/3), m0 = (cos 1.1, 0, sin 1.1), t = 100 (Hairer-Lubich-Wanner)",
+    ),
+    "long": Case(
+        "long",
+        (1.0, 2.0, 3.0),
+        (0.01, 1.0, 0.01),
+        1.0e4,
+        "I = (1, 2, 3), omega0 = (0.01, 1, 0.01), t = 1e4 (a long run: 500 flips)",
+    ),
+}
+
+
+# The state (omega, xyzw quaternion) at t_end of each case, from identity attitude, rounded
+# from 30 digits (see the module docstring).
+REFERENCE: dict[str, tuple[tuple[float, float, float], tuple[float, float, float, float]]] = {
+    "flip": (
+        (0.009550413196755434, -1.0000043947942285, 0.009852417507542),
+        (0.9654395742742695, -7.971609403975472e-05, -0.26015690880105513, -0.01564624151485416),
+    ),
+    "hlw": (
+        (-0.08867415693748931, -0.5904185243334242, 1.1810569286879014),
+        (-0.2616786950327903, 0.22583910742775595, 0.30591607152762923, 0.887094310264288),
+    ),
+    "long": (
+        (0.46311058913583414, -0.8863569158246923, 0.2675016621566673),
+        (0.13935358609147006, 0.2138558794832752, 0.9626791568197566, 0.08997267295509609),
+    ),
+}
+
+
+@dataclass
+class Point:
+    """One setting of one series: wall times of the repeats and the errors at the end."""
+
+    setting: str
+    seconds: list[float]
+    error_omega: float
+    error_attitude: float
+
+    @property
+    def median(self) -> float:
+        return _median(self.seconds)
+
+    def error(self, which: str = "omega") -> float:
+        """The relative error of omega (``"omega"``), the attitude error in radians
+        (``"attitude"``), or the larger of the two (``"both"``)."""
+        if which == "omega":
+            return self.error_omega
+        if which == "attitude":
+            return self.error_attitude
+        return max(self.error_omega, self.error_attitude)
+
+
+@dataclass
+class Series:
+    """A method swept over its step or tolerance."""
+
+    name: str
+    peer: bool
+    points: list[Point] = field(default_factory=list)
+
+
+@dataclass
+class WorkPrecision:
+    """Every series of one case, and the peers that were not installed."""
+
+    case: Case
+    series: list[Series]
+    skipped: list[str]
+
+    def get(self, name: str) -> Series | None:
+        return next((s for s in self.series if s.name == name), None)
+
+    def table(self) -> str:
+        lines = [
+            f"{self.case.label}",
+            f"{'series':26s} {'setting':>12s} {'median ms':>10s} {'spread ms':>17s} "
+            f"{'err omega':>10s} {'err attitude':>13s}",
+        ]
+        for s in self.series:
+            for p in s.points:
+                lines.append(
+                    f"{s.name:26s} {p.setting:>12s} {p.median * 1e3:10.3f} "
+                    f"{_spread(p.seconds):>17s} {p.error_omega:10.1e} {p.error_attitude:13.1e}"
+                )
+        if self.skipped:
+            lines.append(f"(not installed, left out: {', '.join(self.skipped)})")
+        return "\n".join(lines)
+
+
+def _attitude_error(q: Array, q_ref: Array) -> float:
+    """The angle (rad) of the rotation between two attitudes, xyzw quaternions."""
+    q = q / np.linalg.norm(q)
+    # r = conj(q_ref) * q; its angle is 2 atan2(|r_vec|, |r_w|).
+    w = abs(float(np.dot(q, q_ref)))
+    v = q_ref[3] * q[:3] - q[3] * q_ref[:3] - np.cross(q_ref[:3], q[:3])
+    return 2.0 * math.atan2(float(np.linalg.norm(v)), w)
+
+
+def _errors(omega: Array, quaternion: Array, reference: tuple[Array, Array]) -> tuple[float, float]:
+    w_ref, q_ref = reference
+    e_w = float(np.linalg.norm(omega - w_ref) / np.linalg.norm(w_ref))
+    return e_w, _attitude_error(quaternion, q_ref)
+
+
+def _scipy_rhs(moments: Sequence[float]) -> Callable[[float, Array], Array]:
+    """Euler's equations and q' = q (0, omega) / 2 (xyzw), written as a user would in numpy."""
+    i1, i2, i3 = moments
+    a1, a2, a3 = (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3
+
+    def rhs(_t: float, y: Array) -> Array:
+        w1, w2, w3, x, yq, z, s = y
+        return 0.5 * np.array(
+            [
+                2.0 * a1 * w2 * w3,
+                2.0 * a2 * w3 * w1,
+                2.0 * a3 * w1 * w2,
+                s * w1 + yq * w3 - z * w2,
+                s * w2 + z * w1 - x * w3,
+                s * w3 + x * w2 - yq * w1,
+                -(x * w1 + yq * w2 + z * w3),
+            ]
+        )
+
+    return rhs
+
+
+def _mujoco_model(case: Case, integrator: str) -> Any:
+    """A free body with gravity off and the case's principal moments in its body axes."""
+    import mujoco
+
+    i1, i2, i3 = case.moments
+    xml = (
+        f'<mujoco><option gravity="0 0 0" integrator="{integrator}"/><worldbody><body><freejoint/>'
+        f'<inertial pos="0 0 0" mass="1" diaginertia="{i1!r} {i2!r} {i3!r}"/></body></worldbody>'
+        "</mujoco>"
+    )
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def _mujoco_runner(case: Case, integrator: str, dt: float) -> Callable[[], tuple[Array, Array]]:
+    import mujoco
+    from mujoco import rollout
+
+    model = _mujoco_model(case, integrator)
+    model.opt.timestep = dt
+    data = mujoco.MjData(model)
+    nstep = int(round(case.t_end / dt))
+    full = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    size = mujoco.mj_stateSize(model, full)
+
+    def run() -> tuple[Array, Array]:
+        mujoco.mj_resetData(model, data)
+        data.qvel[3:] = case.omega0  # a free joint's angular velocity is in body axes
+        state0 = np.empty(size)
+        mujoco.mj_getState(model, data, state0, full)
+        states, _ = rollout.rollout(model, data, state0, nstep=nstep)
+        last = states[0, -1]  # time, qpos (position, wxyz quaternion), qvel (linear, angular)
+        quat_wxyz = last[4:8]
+        return last[11:14].copy(), np.array([*quat_wxyz[1:], quat_wxyz[0]])
+
+    return run
+
+
+# Sweeps: coarse to fine. A series stops at the first setting whose first call exceeds the
+# budget (the finer ones would cost more still).
+_RTOLS = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
+_RTOLS_QUICK = [1e-5, 1e-7, 1e-9, 1e-11, 1e-13]
+_DTS = [0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001]
+_DTS_QUICK = [0.1, 0.02, 0.005]
+_MUJOCO_DTS = [0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0005]
+_MUJOCO_DTS_QUICK = [0.02, 0.005]
+
+
+def _sweeps(
+    case: Case, quick: bool, peers: bool, skipped: list[str]
+) -> list[tuple[str, bool, list[tuple[str, Callable[[], tuple[Array, Array]]]]]]:
+    """(series name, is a peer, [(setting, a call returning omega and quaternion at t_end)])."""
+    moments = np.array(case.moments)
+    omega0 = np.array(case.omega0)
+    span = [0.0, case.t_end]
+    rtols = _RTOLS_QUICK if quick else _RTOLS
+    dts = _DTS_QUICK if quick else _DTS
+
+    def polhode(**kwargs: Any) -> Callable[[], tuple[Array, Array]]:
+        def run() -> tuple[Array, Array]:
+            traj = ph.simulate(moments, omega0, span, **kwargs)
+            assert traj.quaternion is not None
+            return traj.omega[-1], traj.quaternion[-1]
+
+        return run
+
+    sweeps: list[tuple[str, bool, list[tuple[str, Callable[[], tuple[Array, Array]]]]]] = [
+        ("polhode exact", False, [("-", polhode(method="exact"))]),
+        (
+            "polhode dop853",
+            False,
+            [(f"rtol {r:.0e}", polhode(method="dop853", rtol=r)) for r in rtols],
+        ),
+        ("polhode rk4", False, [(f"dt {d:g}", polhode(method="rk4", dt=d)) for d in dts]),
+    ]
+    for order in (2, 4, 6):
+        sweeps.append(
+            (
+                f"polhode splitting {order}",
+                False,
+                [
+                    (f"dt {d:g}", polhode(method="splitting", dt=d, order=order))
+                    for d in dts
+                    if order > 2 or d <= 0.1
+                ],
+            )
+        )
+    sweeps.append(
+        ("polhode midpoint", False, [(f"dt {d:g}", polhode(method="midpoint", dt=d)) for d in dts])
+    )
+    if not peers:
+        return sweeps
+
+    from scipy.integrate import solve_ivp
+
+    rhs = _scipy_rhs(case.moments)
+    y0 = np.concatenate([omega0, [0.0, 0.0, 0.0, 1.0]])
+    scale = float(np.linalg.norm(omega0))
+    for name in ("RK45", "DOP853", "LSODA"):
+
+        def scipy(method: str, rtol: float) -> Callable[[], tuple[Array, Array]]:
+            def run() -> tuple[Array, Array]:
+                sol = solve_ivp(
+                    rhs, (0.0, case.t_end), y0, method=method, rtol=rtol, atol=rtol * scale
+                )
+                return sol.y[:3, -1], sol.y[3:, -1]
+
+            return run
+
+        settings = [r for r in rtols if r >= 1e-12]  # scipy refuses rtol < 100 eps
+        sweeps.append(
+            (f"scipy {name}", True, [(f"rtol {r:.0e}", scipy(name, r)) for r in settings])
+        )
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        skipped.append("MuJoCo")
+        return sweeps
+    mujoco_dts = _MUJOCO_DTS_QUICK if quick else _MUJOCO_DTS
+    for integrator, label in (("Euler", "MuJoCo Euler"), ("RK4", "MuJoCo RK4")):
+        sweeps.append(
+            (
+                label,
+                True,
+                [(f"dt {d:g}", _mujoco_runner(case, integrator, d)) for d in mujoco_dts],
+            )
+        )
+    return sweeps
+
+
+def work_precision(
+    case: Case | str = "flip",
+    *,
+    quick: bool = False,
+    repeats: int = 5,
+    budget: float = 3.0,
+    peers: bool = True,
+) -> WorkPrecision:
+    """Wall time of the whole Python call against the error at ``t_end``, for every polhode
+    method and the peers (scipy's solve_ivp RK45, DOP853 and LSODA on omega + quaternion;
+    MuJoCo's Euler and RK4 on a free body, when installed).
+
+    The first round sweeps each series from coarse to fine and stops it at the first setting
+    that takes longer than ``budget`` seconds; the other ``repeats - 1`` rounds re-run every
+    setting kept, all series in turn.
+    """
+    case = CASES[case] if isinstance(case, str) else case
+    if case.name in REFERENCE:
+        w_ref, q_ref = REFERENCE[case.name]
+        reference = (np.array(w_ref), np.array(q_ref))
+    else:  # a user's own case: polhode's exact solution is the best reference at hand
+        exact = ph.simulate(case.moments, case.omega0, [0.0, case.t_end], method="exact")
+        assert exact.quaternion is not None
+        reference = (exact.omega[-1], exact.quaternion[-1])
+    skipped: list[str] = []
+    sweeps = _sweeps(case, quick, peers, skipped)
+    jobs: list[tuple[Series, Point, Callable[[], tuple[Array, Array]]]] = []
+    result = WorkPrecision(case, [], skipped)
+    for name, peer, settings in sweeps:
+        series = Series(name, peer)
+        result.series.append(series)
+        for setting, run in settings:
+            start = time.perf_counter()
+            omega, quaternion = run()
+            seconds = time.perf_counter() - start
+            e_w, e_q = _errors(omega, quaternion, reference)
+            point = Point(setting, [seconds], e_w, e_q)
+            series.points.append(point)
+            jobs.append((series, point, run))
+            if seconds > budget:
+                break
+    for _ in range(repeats - 1):
+        for _series, point, run in jobs:
+            if point.seconds[0] > budget:
+                continue  # one call is enough to place a point this slow
+            start = time.perf_counter()
+            run()
+            point.seconds.append(time.perf_counter() - start)
+    return result
+
+
+def cost_at(series: Series, error: float, which: str = "omega") -> float | None:
+    """The time the series needs to reach ``error`` (see :meth:`Point.error` for ``which``):
+    log-log interpolation on its cheapest settings (the Pareto front) between the last one
+    above ``error`` and the first one at or below; None if it never gets there."""
+    front: list[tuple[float, float]] = []
+    for p in sorted(series.points, key=lambda p: p.median):
+        if not front or p.error(which) < front[-1][1]:
+            front.append((p.median, p.error(which)))
+    for k, (seconds, err) in enumerate(front):
+        if err <= error:
+            if k == 0:
+                return seconds
+            t0, e0 = front[k - 1]
+            if err <= 0.0:
+                return seconds
+            f = math.log(e0 / error) / math.log(e0 / err)
+            return math.exp(math.log(t0) + f * (math.log(seconds) - math.log(t0)))
+    return None
+
+
+def best_at(
+    result: WorkPrecision, error: float, peer: bool, which: str = "omega"
+) -> tuple[str, float] | None:
+    """The fastest series (of polhode's or of the peers') reaching ``error``, and its cost."""
+    costs = [
+        (s.name, c)
+        for s in result.series
+        if s.peer == peer and (c := cost_at(s, error, which)) is not None
+    ]
+    return min(costs, key=lambda x: x[1]) if costs else None
+
+
+def targets(
+    result: WorkPrecision,
+    levels: Sequence[float] = (1e-6, 1e-8, 1e-10, 1e-12),
+    which: str = "omega",
+) -> str:
+    """At each error level (of omega, the attitude or both: :meth:`Point.error`): the cost of
+    polhode's dop853, of polhode's fastest method, of scipy's DOP853 and of MuJoCo's RK4, and
+    the ratios (how many times faster polhode is); '-' where a series does not get there."""
+    ours = result.get("polhode dop853")
+    scipy = result.get("scipy DOP853")
+    mujoco = result.get("MuJoCo RK4")
+    lines = [
+        f"{'error':>7s} {'dop853 ms':>10s} {'best polhode':>28s} {'scipy DOP853':>13s} "
+        f"{'x dop853':>9s} {'x best':>8s} {'MuJoCo RK4':>11s} {'x best':>8s}"
+    ]
+
+    def ms(x: float | None) -> str:
+        return "-" if x is None else f"{x * 1e3:.3f}"
+
+    def ratio(a: float | None, b: float | None) -> str:
+        return "-" if a is None or b is None else f"{a / b:.0f}x"
+
+    for level in levels:
+        dop = None if ours is None else cost_at(ours, level, which)
+        best = best_at(result, level, peer=False, which=which)
+        best_cost = None if best is None else best[1]
+        best_name = "-" if best is None else f"{best[0][8:]} {best[1] * 1e3:.3f}"
+        sci = None if scipy is None else cost_at(scipy, level, which)
+        muj = None if mujoco is None else cost_at(mujoco, level, which)
+        lines.append(
+            f"{level:7.0e} {ms(dop):>10s} {best_name:>28s} {ms(sci):>13s} "
+            f"{ratio(sci, dop):>9s} {ratio(sci, best_cost):>8s} {ms(muj):>11s} "
+            f"{ratio(muj, best_cost):>8s}"
+        )
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------------------------
+# Invariant drift over a long run.
+
+
+@dataclass
+class Drift:
+    """Relative errors of T, |L| and L in space at log-spaced times, per method."""
+
+    case: Case
+    dt: float
+    steps: int
+    t: Array
+    errors: dict[str, dict[str, Array]]
+    seconds: dict[str, float]
+
+    def table(self) -> str:
+        lines = [
+            f"{self.case.label.split(', t =')[0]}, dt = {self.dt:g}, {self.steps:.0e} steps, "
+            "largest relative error over the run (and at the end)",
+            f"{'method':22s} {'wall s':>7s} {'T':>19s} {'|L|':>19s} {'L in space':>19s}",
+        ]
+        for name, errs in self.errors.items():
+            cells = [f"{np.max(errs[k]):8.1e} ({errs[k][-1]:8.1e})" for k in ("T", "|L|", "L")]
+            lines.append(f"{name:22s} {self.seconds[name]:7.2f} " + " ".join(cells))
+        return "\n".join(lines)
+
+
+def drift(
+    case: Case | str = "flip", *, steps: int = 1_000_000, dt: float = 0.01, samples: int = 300
+) -> Drift:
+    """Integrates ``steps`` fixed steps of ``dt`` with each fixed-step method (and dop853 at
+    rtol 1e-10 for contrast) and records the relative errors of the invariants at ``samples``
+    log-spaced times (whole multiples of ``dt``, so that every step is ``dt``)."""
+    case = CASES[case] if isinstance(case, str) else case
+    k = np.unique(np.round(np.logspace(0, math.log10(steps), samples)).astype(np.int64))
+    t = np.concatenate([[0.0], k * dt])
+    methods: dict[str, dict[str, Any]] = {
+        "splitting 2": {"method": "splitting", "order": 2, "dt": dt},
+        "splitting 4": {"method": "splitting", "order": 4, "dt": dt},
+        "splitting 6": {"method": "splitting", "order": 6, "dt": dt},
+        "midpoint": {"method": "midpoint", "dt": dt},
+        "rk4": {"method": "rk4", "dt": dt},
+        "dop853 rtol 1e-10": {"method": "dop853", "rtol": 1e-10},
+    }
+    errors: dict[str, dict[str, Array]] = {}
+    seconds: dict[str, float] = {}
+    for name, kwargs in methods.items():
+        start = time.perf_counter()
+        traj = ph.simulate(case.moments, case.omega0, t, **kwargs)
+        seconds[name] = time.perf_counter() - start
+        assert traj.angular_momentum is not None
+        l_body = traj.angular_momentum_body
+        l_space = traj.angular_momentum
+        norm0 = np.linalg.norm(l_space[0])
+        errors[name] = {
+            "T": np.abs(traj.energy[1:] / traj.energy[0] - 1.0),
+            "|L|": np.abs(np.linalg.norm(l_body[1:], axis=1) / norm0 - 1.0),
+            "L": np.linalg.norm(l_space[1:] - l_space[0], axis=1) / norm0,
+        }
+    return Drift(case, dt, steps, t[1:], errors, seconds)
+
+
+# --------------------------------------------------------------------------------------------
+# Batch throughput.
+
+
+@dataclass
+class Throughput:
+    """Body-steps per second (integrators) or evaluations per second (exact) against N."""
+
+    rows: list[tuple[str, bool, int, int, list[float], float]]  # method, attitude, N, work, s
+
+    def rate(self, method: str, attitude: bool) -> dict[int, float]:
+        return {
+            n: work / _median(secs)
+            for m, a, n, work, secs, _ in self.rows
+            if m == method and a == attitude
+        }
+
+    def table(self) -> str:
+        lines = [
+            f"{'method':14s} {'attitude':>8s} {'N':>8s} {'median ms':>10s} {'spread ms':>17s} "
+            f"{'per second':>11s}"
+        ]
+        for method, attitude, n, work, secs, _ in self.rows:
+            unit = "evals" if method == "exact" else "body-steps"
+            lines.append(
+                f"{method:14s} {str(attitude):>8s} {n:8d} {_median(secs) * 1e3:10.2f} "
+                f"{_spread(secs):>17s} {work / _median(secs):11.3g} {unit}"
+            )
+        return "\n".join(lines)
+
+
+def _random_bodies(n: int, rng: np.random.Generator) -> tuple[Array, Array]:
+    """Principal moments that satisfy the triangle inequality and random angular velocities."""
+    moments = np.sort(rng.uniform(1.0, 2.0, size=(n, 3)), axis=1)
+    return moments, rng.normal(size=(n, 3))
+
+
+def throughput(
+    *,
+    sizes: Sequence[int] = (1, 10, 100, 1_000, 10_000, 100_000, 1_000_000),
+    methods: Sequence[str] = ("rk4", "splitting", "midpoint", "dop853", "exact"),
+    work: float = 2e7,
+    repeats: int = 3,
+    dt: float = 0.01,
+) -> Throughput:
+    """For each N, integrates N random bodies for about ``work / N`` steps (at least 10) on
+    all cores and reports body-steps per second, with and without orientation; the exact
+    method is timed on ``work / N`` output times instead (evaluations per second)."""
+    rng = np.random.default_rng(0)
+    rows: list[tuple[str, bool, int, int, list[float], float]] = []
+    for n in sizes:
+        moments, omega0 = _random_bodies(n, rng)
+        steps = int(max(10, min(100_000, work // n)))
+        cost = {"splitting": 4, "midpoint": 2, "dop853": 8, "exact": 1}
+        for method in methods:
+            steps_m = max(10, steps // cost.get(method, 1))
+            for attitude in (True, False):
+                if method == "exact":
+                    times = np.linspace(0.0, steps_m * dt, steps_m)
+                    kwargs: dict[str, Any] = {"method": "exact"}
+                elif method == "dop853":
+                    times = np.array([0.0, steps_m * dt])
+                    kwargs = {"method": "dop853", "rtol": 1e-8}
+                else:
+                    times = np.array([0.0, steps_m * dt])
+                    kwargs = {"method": method, "dt": dt}
+                seconds: list[float] = []
+                total = 0
+                for _ in range(repeats):
+                    start = time.perf_counter()
+                    traj = ph.simulate(moments, omega0, times, orientation=attitude, **kwargs)
+                    seconds.append(time.perf_counter() - start)
+                    if method == "exact":
+                        total = n * len(times)
+                    else:
+                        total = int(np.sum(traj.stats["steps"]))
+                    del traj
+                rows.append((method, attitude, n, total, seconds, dt))
+    return Throughput(rows)
+
+
+# --------------------------------------------------------------------------------------------
+# Principal axes, point masses, meshes.
+
+
+@dataclass
+class Versus:
+    """polhode against a peer on the same input: times, agreement or residuals."""
+
+    title: str
+    peer: str
+    peer_seconds: list[float]
+    ours_seconds: list[float]
+    note: str
+
+    @property
+    def ratio(self) -> float:
+        return _median(self.peer_seconds) / _median(self.ours_seconds)
+
+    def table(self) -> str:
+        return (
+            f"{self.title}\n"
+            f"  {self.peer:26s} {_median(self.peer_seconds) * 1e3:10.2f} ms "
+            f"(spread {_spread(self.peer_seconds)})\n"
+            f"  {'polhode':26s} {_median(self.ours_seconds) * 1e3:10.2f} ms "
+            f"(spread {_spread(self.ours_seconds)})\n"
+            f"  polhode is {self.ratio:.1f}x faster; {self.note}"
+        )
+
+
+def _interleaved(runs: dict[str, Callable[[], Any]], repeats: int) -> tuple[dict, dict]:
+    times: dict[str, list[float]] = {name: [] for name in runs}
+    results: dict[str, Any] = {}
+    for _ in range(repeats):
+        for name, fn in runs.items():
+            start = time.perf_counter()
+            results[name] = fn()
+            times[name].append(time.perf_counter() - start)
+    return times, results
+
+
+def _worst_residual(a: Array, w: Array, v: Array) -> float:
+    r = a @ v - v * w[:, None, :]
+    return float(np.max(np.linalg.norm(r, axis=(1, 2)) / np.linalg.norm(a, axis=(1, 2))))
+
+
+def eigensolve(n: int = 1_000_000, repeats: int = 5) -> list[Versus]:
+    """The batch `polhode.principal` against `numpy.linalg.eigh` on N random symmetric tensors
+    and on N rotated diag(1, 1, 2) (every one with a double moment)."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(n, 3, 3))
+    random = 0.5 * (a + a.transpose(0, 2, 1))
+    r = Rotation.random(n, random_state=rng).as_matrix()
+    degenerate = np.einsum("nij,j,nkj->nik", r, np.array([1.0, 1.0, 2.0]), r)
+    eps = np.finfo(float).eps
+    out = []
+    for label, tensors in (("random symmetric", random), ("degenerate diag(1, 1, 2)", degenerate)):
+        times, results = _interleaved(
+            {
+                "eigh": lambda t=tensors: np.linalg.eigh(t),
+                "polhode": lambda t=tensors: tuple(ph.principal(t)),
+            },
+            repeats,
+        )
+        res = {k: _worst_residual(tensors, *results[k][:2]) / eps for k in results}
+        out.append(
+            Versus(
+                f"eigensolve, {label}, N = {n:.0e}",
+                "numpy.linalg.eigh",
+                times["eigh"],
+                times["polhode"],
+                f"worst residual {res['polhode']:.2f} eps (eigh {res['eigh']:.2f} eps)",
+            )
+        )
+    return out
+
+
+def point_masses(n: int = 10_000_000, repeats: int = 5) -> Versus:
+    """`Body.point_masses(m, r).inertia` against numpy: centre, centred second moments,
+    inertia tensor."""
+    rng = np.random.default_rng(1)
+    m = rng.uniform(0.5, 2.0, n)
+    r = rng.normal(size=(n, 3)) * [1.0, 2.0, 3.0]
+
+    def numpy_reference() -> Array:
+        com = m @ r / m.sum()
+        d = r - com
+        c = (d * m[:, None]).T @ d
+        return np.trace(c) * np.eye(3) - c
+
+    times, results = _interleaved(
+        {"numpy": numpy_reference, "polhode": lambda: ph.Body.point_masses(m, r).inertia},
+        repeats,
+    )
+    diff = np.abs(results["numpy"] - results["polhode"]).max() / np.abs(results["numpy"]).max()
+    return Versus(
+        f"point-mass assembly, N = {n:.0e}",
+        "numpy reference",
+        times["numpy"],
+        times["polhode"],
+        f"agreement {diff:.1e} relative",
+    )
+
+
+def mesh(subdivisions: int = 7, repeats: int = 11) -> Versus | None:
+    """`Body.mesh` (with its closedness and winding check) against trimesh's
+    `triangles.mass_properties` on an icosphere of 20 * 4^S triangles; None without trimesh."""
+    try:
+        import trimesh
+    except ImportError:
+        return None
+    sphere = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
+    vertices = np.round(np.asarray(sphere.vertices) * 2.0**24) / 2.0**24
+    faces = np.ascontiguousarray(sphere.faces, dtype=np.int64)
+    triangles = vertices[faces]
+    times, results = _interleaved(
+        {
+            "trimesh": lambda: trimesh.triangles.mass_properties(triangles, density=1.0),
+            "polhode": lambda: ph.Body.mesh(vertices, faces, density=1.0),
+        },
+        repeats,
+    )
+    theirs = results["trimesh"].inertia
+    agree = np.linalg.norm(results["polhode"].inertia - theirs) / np.linalg.norm(theirs)
+    return Versus(
+        f"triangle mesh, icosphere of {len(faces):,} triangles",
+        f"trimesh {trimesh.__version__}",
+        times["trimesh"],
+        times["polhode"],
+        f"agreement {agree:.1e} relative",
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# The quick suite (``polhode bench``).
+
+
+def run(
+    quick: bool = True, repeats: int | None = None, print_: Callable[[str], Any] = print
+) -> None:
+    """Runs the suite and prints its tables: work-precision on the flip case with the ratios at
+    matching error, batch throughput, eigensolve, point masses and (with trimesh) meshes.
+    ``quick`` keeps it under a minute."""
+    repeats = (3 if quick else 5) if repeats is None else repeats
+    print_(f"# polhode bench{' --quick' if quick else ''} ({machine()})\n")
+    wp = work_precision("flip", quick=quick, repeats=repeats, budget=1.0 if quick else 3.0)
+    print_("## Work-precision, one body, torque-free, errors against the exact solution")
+    print_(wp.table())
+    for which in ("omega", "attitude"):
+        print_(
+            f"\nCost to reach each error of the {which} (ms, interpolated), and how many times "
+            "faster polhode is:"
+        )
+        print_(targets(wp, which=which))
+    sizes = (1, 100, 10_000, 100_000) if quick else (1, 10, 100, 1_000, 10_000, 100_000, 10**6)
+    print_("\n## Batch throughput on all cores")
+    tp = throughput(
+        sizes=sizes,
+        methods=("rk4", "exact") if quick else ("rk4", "splitting", "midpoint", "dop853", "exact"),
+        work=2e6 if quick else 2e7,
+        repeats=repeats,
+    )
+    print_(tp.table())
+    print_("\n## Mass properties")
+    for v in eigensolve(100_000 if quick else 1_000_000, repeats):
+        print_(v.table())
+    print_(point_masses(1_000_000 if quick else 10_000_000, repeats).table())
+    m = mesh(5 if quick else 7, repeats)
+    print_("(trimesh not installed: mesh comparison left out)" if m is None else m.table())
+
+
+# --------------------------------------------------------------------------------------------
+# Far from the origin: the mesh integrals against trimesh.
+
+
+def mesh_offset(subdivisions: int = 5, exponents: Sequence[int] = range(0, 9)) -> str:
+    """The icosphere (vertices on a 2^-24 grid, so that the shift is exact) moved by
+    d (1, -0.5, 0.25): the relative error of the inertia about the centre of mass against the
+    unmoved mesh, for polhode and for trimesh (if installed)."""
+    try:
+        import trimesh
+    except ImportError:
+        return "(trimesh not installed: far-offset comparison left out)"
+    sphere = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
+    vertices = np.round(np.asarray(sphere.vertices) * 2.0**24) / 2.0**24
+    faces = np.ascontiguousarray(sphere.faces, dtype=np.int64)
+    base = ph.Body.mesh(vertices, faces, density=1.0).inertia
+    lines = [f"{'d':>6s} {'polhode':>10s} {'trimesh':>10s}"]
+    for exponent in exponents:
+        d = 10.0**exponent
+        moved = vertices + np.array([d, -0.5 * d, 0.25 * d])
+        ours = ph.Body.mesh(moved, faces, density=1.0).inertia
+        theirs = trimesh.triangles.mass_properties(moved[faces], density=1.0).inertia
+        err = [np.linalg.norm(x - base) / np.linalg.norm(base) for x in (ours, theirs)]
+        lines.append(f"1e{exponent:<4d} {err[0]:10.2e} {err[1]:10.2e}")
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------------------------
+# Plots (matplotlib, the ``plot`` or ``bench`` extra), written to PNG files.
+
+_STYLE = {
+    "polhode exact": ("k", "*"),
+    "polhode dop853": ("C0", "o"),
+    "polhode rk4": ("C1", "o"),
+    "polhode splitting 2": ("C2", "v"),
+    "polhode splitting 4": ("C2", "o"),
+    "polhode splitting 6": ("C2", "^"),
+    "polhode midpoint": ("C4", "o"),
+    "scipy RK45": ("C3", "s"),
+    "scipy DOP853": ("C3", "D"),
+    "scipy LSODA": ("C3", "x"),
+    "MuJoCo Euler": ("C5", "s"),
+    "MuJoCo RK4": ("C5", "D"),
+}
+
+
+def _figure(ncols: int = 1, width: float = 6.4) -> tuple[Any, Any]:
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, 4.8), squeeze=False)
+    return fig, axes[0]
+
+
+def _save(fig: Any, path: str) -> str:
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_work_precision(result: WorkPrecision, path: str, floor: float = 1e-17) -> str:
+    """Two log-log panels (error of omega, error of the attitude) against the median wall time
+    of the whole call, one line per series; polhode solid, peers dashed."""
+    fig, axes = _figure(2)
+    for ax, which, label in zip(
+        axes,
+        ("omega", "attitude"),
+        ("relative error of omega at t_end", "attitude error at t_end (rad)"),
+        strict=True,
+    ):
+        for s in result.series:
+            if not s.points:
+                continue
+            x = np.array([p.median for p in s.points])
+            y = np.maximum([p.error(which) for p in s.points], floor)
+            color, marker = _STYLE.get(s.name, (None, "o"))
+            ax.loglog(
+                x,
+                y,
+                marker=marker,
+                color=color,
+                linestyle="--" if s.peer else "-",
+                label=s.name,
+                markersize=5,
+            )
+        ax.set_xlabel("wall time of the call (s)")
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_title(result.case.label, fontsize=9, loc="left")
+    axes[1].legend(fontsize=7, loc="upper right", ncol=2)
+    return _save(fig, path)
+
+
+def plot_drift(result: Drift, path: str, floor: float = 1e-17) -> str:
+    """Three log-log panels: relative error of T, of |L| and of L in space against time."""
+    fig, axes = _figure(3, width=4.6)
+    for ax, key, label in zip(
+        axes, ("T", "|L|", "L"), ("energy T", "|L|", "L in space"), strict=True
+    ):
+        for name, errors in result.errors.items():
+            ax.loglog(result.t, np.maximum(errors[key], floor), label=name, linewidth=1)
+        ax.set_xlabel("t")
+        ax.set_title(f"relative error of {label}", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=7)
+    return _save(fig, path)
+
+
+def plot_throughput(result: Throughput, path: str) -> str:
+    """Body-steps (or exact evaluations) per second against N, log-log, with and without
+    orientation."""
+    fig, axes = _figure(1)
+    ax = axes[0]
+    methods = list(dict.fromkeys(row[0] for row in result.rows))
+    for k, method in enumerate(methods):
+        for attitude in (True, False):
+            rate = result.rate(method, attitude)
+            if not rate:
+                continue
+            ax.loglog(
+                list(rate),
+                list(rate.values()),
+                color=f"C{k}",
+                linestyle="-" if attitude else ":",
+                marker="o",
+                label=f"{method} ({'with' if attitude else 'no'} orientation)",
+            )
+    ax.set_xlabel("N bodies")
+    ax.set_ylabel("body-steps per second (exact: evaluations per second)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    return _save(fig, path)
