@@ -14,8 +14,8 @@ from scipy.special import ellipk
 from polhode.cli import main
 
 
-def test_demo_prints_the_flip_prediction_and_observation(capsys):
-    assert main(["demo"]) == 0
+def test_demo_prints_the_flip_prediction_and_observation(tmp_path, capsys):
+    assert main(["demo", "--out", str(tmp_path / "demo")]) == 0
     out = capsys.readouterr().out
     assert "T-handle" in out and "predicted" in out
     # Both the exact solution and the splitting observe flips at the predicted interval.
@@ -24,6 +24,41 @@ def test_demo_prints_the_flip_prediction_and_observation(capsys):
     assert len(observed) == 2
     for interval in observed:
         assert abs(interval / predicted - 1) < 1e-3  # sampled on a 20001-point grid
+
+
+def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    from matplotlib.image import imread
+
+    out = tmp_path / "nested" / "demo"
+    assert main(["demo", "--out", str(out)]) == 0
+    written = sorted(p.name for p in out.glob("*.png"))
+    assert {"flip_omega.png", "flip_polhode.png", "flip_herpolhode.png"} <= set(written)
+    assert "flip_drift_splitting.png" in written
+    for name in written:
+        image = imread(out / name)[..., :3]
+        assert image.shape[0] > 200 and image.shape[1] > 200
+        assert np.any(image < 0.5)  # something was drawn, not a blank canvas
+    assert str(out) in capsys.readouterr().out
+
+
+def test_demo_without_plots_writes_nothing(tmp_path):
+    assert main(["demo", "--no-plots", "--out", str(tmp_path / "demo")]) == 0
+    assert not (tmp_path / "demo").exists()
+
+
+def test_spin_plot_writes_a_png(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "spin.png"
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", "0.01", "1", "0.01", "--t", "30"]
+    assert main([*argv, "--method", "rk4", "--dt", "0.01", "--plot", str(path)]) == 0
+    assert path.stat().st_size > 20_000
+    assert str(path) in capsys.readouterr().out
+
+
+def test_bench_rejects_zero_repeats(capsys):
+    assert main(["bench", "--repeats", "0"]) == 2
+    assert "--repeats" in capsys.readouterr().err
 
 
 def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):

@@ -1,4 +1,5 @@
-"""The ``polhode`` command line: ``polhode demo`` (the default) and ``polhode spin``."""
+"""The ``polhode`` command line: ``polhode demo`` (the default), ``polhode spin`` and
+``polhode bench``."""
 
 from __future__ import annotations
 
@@ -37,7 +38,7 @@ def _bodies() -> list[tuple[str, ph.Body]]:
     ]
 
 
-def _demo(_: argparse.Namespace) -> int:
+def _demo(args: argparse.Namespace) -> int:
     np.set_printoptions(precision=6, suppress=True)
     print("polhode: principal moments (ascending) and axes (columns) about the centre of mass\n")
     for name, body in _bodies():
@@ -52,7 +53,48 @@ def _demo(_: argparse.Namespace) -> int:
             )
         print()
     _flip_demo()
+    out = getattr(args, "out", "polhode-demo")
+    if not getattr(args, "no_plots", False):
+        _demo_plots(out)
     return 0
+
+
+def _demo_plots(out: str) -> None:
+    """PNG plots of the T-handle's flip, in principal axes, written into ``out``."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        print("\n(plots skipped: matplotlib is not installed; pip install 'polhode[plot]')")
+        return
+    import os
+
+    from polhode import plot
+
+    t_handle = dict(_bodies())["T-handle (two cylinders, kg and m)"]
+    p = t_handle.principal()
+    spin = 10.0 * p.axes[:, 1] + 1e-3 * p.axes[:, 0]
+    omega_p = p.axes.T @ spin  # the same motion in principal axes, where the polhode lives
+    a = ph.analyze(p.moments, omega_p)
+    t = np.linspace(0.0, 3.2 * a.flip_interval, 4001)
+    exact = ph.simulate(p.moments, omega_p, t, method="exact")
+    split = ph.simulate(p.moments, omega_p, t, method="splitting", dt=1e-3, order=4)
+    os.makedirs(out, exist_ok=True)
+    written = []
+    for name, ax in (
+        ("flip_omega.png", plot.omega(exact)),
+        ("flip_drift_splitting.png", plot.drift(split)),
+        ("flip_polhode.png", plot.polhode(traj=exact)),
+        ("flip_herpolhode.png", plot.herpolhode(exact)),
+    ):
+        path = os.path.join(out, name)
+        ax.figure.savefig(path, dpi=100)
+        written.append(path)
+    if hasattr(plot, "perturbation_error"):
+        ax = plot.perturbation_error(p.moments, axis=0)
+        path = os.path.join(out, "perturbation_error.png")
+        ax.figure.savefig(path, dpi=100)
+        written.append(path)
+    print(f"\nplots written: {', '.join(written)}")
 
 
 def _flip_demo() -> None:
@@ -155,6 +197,8 @@ def _spin(args: argparse.Namespace) -> int:
     print(f"  |L|              {np.max(np.abs(l_norm / l_norm[0] - 1)):.2e}")
     deviation = np.linalg.norm(l_space - l_space[0], axis=1) / np.linalg.norm(l_space[0])
     print(f"  L in space       {np.max(deviation):.2e}")
+    if args.plot:
+        _spin_plot(sol, args.plot)
     if args.csv:
         with open(args.csv, "w", newline="") as handle:
             writer = csv.writer(handle)
@@ -165,12 +209,43 @@ def _spin(args: argparse.Namespace) -> int:
     return 0
 
 
+def _spin_plot(sol: ph.Trajectory, path: str) -> None:
+    """omega against time and the invariant drift, side by side, into one PNG."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise ph.PolhodeError(
+            "Expected matplotlib for `--plot`; pip install 'polhode[plot]'."
+        ) from None
+    from polhode import plot
+
+    figure = Figure(figsize=(12, 4.5), layout="constrained")
+    left, right = figure.subplots(1, 2)
+    plot.omega(sol, ax=left)
+    plot.drift(sol, ax=right)
+    figure.savefig(path, dpi=100)
+    print(f"plot written to {path}")
+
+
+def _bench(args: argparse.Namespace) -> int:
+    from polhode import bench
+
+    if args.repeats is not None and args.repeats < 1:
+        raise ph.PolhodeError(f"Expected `--repeats` to be at least 1, got {args.repeats}.")
+    bench.run(quick=args.quick, repeats=args.repeats)
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="polhode", description="Rigid-body rotation.")
     commands = parser.add_subparsers(dest="command")
     demo = commands.add_parser(
         "demo", help="principal axes of a few bodies and the tennis-racket flip of a T-handle"
     )
+    demo.add_argument(
+        "--out", default="polhode-demo", help="folder for the PNG plots (default ./polhode-demo)"
+    )
+    demo.add_argument("--no-plots", action="store_true", help="print only, write no PNG")
     demo.set_defaults(run=_demo)
     spin = commands.add_parser(
         "spin",
@@ -195,7 +270,17 @@ def _parser() -> argparse.ArgumentParser:
     spin.add_argument("--order", type=int, default=4, choices=(2, 4, 6))
     spin.add_argument("--rtol", type=float, default=1e-10)
     spin.add_argument("--csv", help="write t, omega and the quaternion (xyzw) to this file")
+    spin.add_argument("--plot", help="write omega and the invariant drift to this PNG")
     spin.set_defaults(run=_spin)
+    bench_parser = commands.add_parser(
+        "bench",
+        help="speed against error, polhode against scipy, MuJoCo, numpy and trimesh",
+        description="Run the benchmark suite and print its tables (benchmarks/ in the source "
+        "tree has the full suite and the report).",
+    )
+    bench_parser.add_argument("--quick", action="store_true", help="under a minute")
+    bench_parser.add_argument("--repeats", type=int, help="repeats per setting (default 3/5)")
+    bench_parser.set_defaults(run=_bench)
     return parser
 
 
@@ -204,7 +289,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     if args.command is None:
-        return _demo(args)
+        args = parser.parse_args(["demo"])
     if getattr(args, "points", 2) < 2:
         parser.error("argument --points: expected at least 2")
     try:
