@@ -167,3 +167,75 @@ def test_import_polhode_does_not_import_matplotlib():
     code = "import sys, polhode, polhode.plot; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def euler_reference(moments, omega0, times):
+    """omega at ``times`` by scipy's DOP853 at rtol 1e-13 (independent of polhode)."""
+    from scipy.integrate import solve_ivp
+
+    i1, i2, i3 = moments
+
+    def rhs(_t, w):
+        return [
+            (i2 - i3) / i1 * w[1] * w[2],
+            (i3 - i1) / i2 * w[2] * w[0],
+            (i1 - i2) / i3 * w[0] * w[1],
+        ]
+
+    sol = solve_ivp(
+        rhs, (0.0, times[-1]), omega0, t_eval=times, method="DOP853", rtol=1e-13, atol=1e-16
+    )
+    return sol.y.T
+
+
+def test_perturbation_error_slopes_and_values(tmp_path):
+    from polhode.perturbation import perturbation
+
+    axis, times = 1, np.linspace(0.0, 2.0, 41)  # the intermediate axis: growth, the flip
+    ax = plot.perturbation_error(MOMENTS, axis=axis)
+    render(ax, tmp_path / "perturbation_error.png", min_kb=10)
+    assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
+    errors = {int(line.get_gid().split(":")[1]): line for line in lines(ax, "perturbation_error:")}
+    slopes = {int(line.get_gid().split(":")[1]): line for line in lines(ax, "slope:")}
+    assert sorted(errors) == [1, 2] and sorted(slopes) == [2, 3]
+    for n, line in errors.items():
+        eps, error = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+        np.testing.assert_allclose(eps, np.logspace(-4.0, -1.0, 13), rtol=1e-15)
+        # the order-n expansion is off by O(eps^(n+1)): so is every plotted point
+        fitted = np.polyfit(np.log(eps), np.log(error), 1)[0]
+        assert abs(fitted - (n + 1)) < 0.05, (n, fitted)
+        # the reference line: exactly eps^(n+1), a little below the smallest-eps point
+        np.testing.assert_allclose(
+            slopes[n + 1].get_ydata(),
+            error[0] / plot.SLOPE_OFFSET * (eps / eps[0]) ** (n + 1),
+            rtol=1e-12,
+        )
+        # the plotted errors against scipy's integration rather than polhode's closed form,
+        # where the error is far above that integration's own (about 1e-13)
+        for k in (6, 9, 12):
+            omega0 = eps[k] * np.array(plot.PERTURBATION_DIRECTION)
+            omega0[axis] = 1.0
+            approx = perturbation(MOMENTS, omega0, times, axis=axis, order=n)
+            expected = np.max(np.abs(approx - euler_reference(MOMENTS, omega0, times)))
+            assert error[k] == pytest.approx(expected, rel=1e-4), (n, k)
+
+
+def test_perturbation_error_options_and_errors():
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot()
+    out = plot.perturbation_error(
+        MOMENTS, axis=2, eps=[1e-2, 1e-3, 3e-3], orders=(0,), t=[0.0, 1.0], ax=ax
+    )
+    assert out is ax
+    (line,) = lines(ax, "perturbation_error:0")
+    np.testing.assert_array_equal(line.get_xdata(), [1e-3, 3e-3, 1e-2])  # sorted
+    (ref,) = lines(ax, "slope:1")
+    np.testing.assert_allclose(ref.get_ydata() / ref.get_xdata(), ref.get_ydata()[0] / 1e-3)
+    for bad in ([], [0.0, 1e-3], [[1e-3]]):
+        with pytest.raises(ValueError, match="eps"):
+            plot.perturbation_error(MOMENTS, eps=bad)
+    with pytest.raises(ValueError, match="axis"):
+        plot.perturbation_error(MOMENTS, axis=3)
+    with pytest.raises(ph.PolhodeError, match="order"):
+        plot.perturbation_error(MOMENTS, orders=(3,))

@@ -6,7 +6,8 @@ inside the functions: ``import polhode`` never needs it.
 
 Lines are tagged with ``Line2D.get_gid()`` so their data can be found again (the tests do):
 ``"omega1"``.., ``"drift:energy"``.., ``"polhode:<T>"``, ``"separatrix"``, ``"trajectory"``,
-``"herpolhode"``, ``"work_precision:<name>"``.
+``"herpolhode"``, ``"work_precision:<name>"``, ``"perturbation_error:<order>"``,
+``"slope:<order + 1>"``.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
 
     from polhode.simulation import Trajectory
 
-__all__ = ["drift", "herpolhode", "omega", "polhode", "work_precision"]
+__all__ = ["drift", "herpolhode", "omega", "perturbation_error", "polhode", "work_precision"]
 
 #: Errors below this are drawn at this value so a log axis can show exact zeros.
 FLOOR = 1e-17
@@ -321,6 +322,107 @@ def work_precision(
     ax.set_xlabel("time")
     ax.set_ylabel("error")
     ax.set_title("Work-precision")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return ax
+
+
+#: The reference lines eps^(n+1) are drawn this factor below the smallest-eps error, so that
+#: they stay visible beside a curve of exactly that slope.
+SLOPE_OFFSET = 4.0
+
+#: Direction of the small components of omega0 in :func:`perturbation_error` (the spin axis's
+#: entry is replaced by the spin).
+PERTURBATION_DIRECTION = (0.7, -0.4, 0.5)
+
+
+def perturbation_errors(
+    moments: Sequence[float],
+    axis: int,
+    eps: Any,
+    orders: Sequence[int] = (1, 2),
+    t: Any = 2.0,
+    *,
+    spin: float = 1.0,
+    direction: Sequence[float] = PERTURBATION_DIRECTION,
+) -> dict[int, NDArray[np.float64]]:
+    """Largest error of the expansion of each order against the exact solution, per eps.
+
+    For each ``eps``, omega0 is ``eps * direction`` with the ``axis`` entry set to ``spin``; the
+    error is max |omega_expansion - omega_exact| over the components and the times ``t`` (an end
+    time means 41 times from 0 to it). The exact solution is ``polhode.simulate(...,
+    method="exact")``, all eps in one batch.
+    """
+    from polhode.perturbation import perturbation
+    from polhode.simulation import simulate
+
+    epsilons = np.asarray(eps, dtype=np.float64)
+    if epsilons.ndim != 1 or epsilons.size == 0:
+        raise ValueError(f"Expected `eps` to be a 1-D array of values, got shape {epsilons.shape}.")
+    if not np.all(np.isfinite(epsilons) & (epsilons > 0)):
+        raise ValueError(f"Expected `eps` to be positive and finite, got {epsilons.tolist()}.")
+    times = np.asarray(t, dtype=np.float64)
+    if times.ndim == 0:
+        times = np.linspace(0.0, float(times), 41)
+    shape = np.asarray(direction, dtype=np.float64)
+    if shape.shape != (3,) or not np.all(np.isfinite(shape)):
+        raise ValueError(f"Expected `direction` to be three finite numbers, got {direction!r}.")
+    if isinstance(axis, bool) or axis not in (0, 1, 2):
+        raise ValueError(f"Expected `axis` to be 0, 1 or 2, got {axis!r}.")
+    omega0 = epsilons[:, None] * shape
+    omega0[:, axis] = spin
+    exact = simulate(moments, omega0, times, method="exact", orientation=False).omega
+    errors = {}
+    for order in orders:
+        errors[int(order)] = np.array(
+            [
+                np.max(np.abs(perturbation(moments, w, times, axis=axis, order=order) - e))
+                for w, e in zip(omega0, exact, strict=True)
+            ]
+        )
+    return errors
+
+
+def perturbation_error(
+    moments: Sequence[float],
+    axis: int = 2,
+    eps: Any = None,
+    orders: Sequence[int] = (1, 2),
+    t: Any = 2.0,
+    ax: Axes | None = None,
+    *,
+    spin: float = 1.0,
+    direction: Sequence[float] = PERTURBATION_DIRECTION,
+    floor: float = FLOOR,
+) -> Axes:
+    """Error of the perturbation expansion against eps on log-log axes, with slopes eps^(n+1).
+
+    Spin ``spin`` about principal ``axis`` of ``moments``, perturbed by ``eps * direction``
+    (default eps: 13 values from 1e-4 to 1e-1); for each order n in ``orders``, the largest error
+    of :func:`polhode.perturbation` against the exact solution over the times ``t`` (see
+    :func:`perturbation_errors`), with a dashed reference line eps^(n+1) starting
+    ``SLOPE_OFFSET`` below its smallest-eps point. Errors below ``floor`` are drawn at the floor.
+    """
+    epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else np.asarray(eps, dtype=np.float64)
+    errors = perturbation_errors(moments, axis, epsilons, orders, t, spin=spin, direction=direction)
+    ax = _new_axes() if ax is None else ax
+    order_of = np.argsort(epsilons, kind="stable")
+    x = epsilons[order_of]
+    for n, values in errors.items():
+        y = np.maximum(values[order_of], floor)
+        (line,) = ax.loglog(x, y, marker="o", label=f"order {n}", gid=f"perturbation_error:{n}")
+        ax.loglog(
+            x,
+            y[0] / SLOPE_OFFSET * (x / x[0]) ** (n + 1),
+            color=line.get_color(),
+            linestyle="--",
+            linewidth=0.8,
+            label=f"$\\epsilon^{{{n + 1}}}$",
+            gid=f"slope:{n + 1}",
+        )
+    ax.set_xlabel("$\\epsilon$ (size of the perturbation)")
+    ax.set_ylabel("max |omega - omega_exact|")
+    ax.set_title(f"Perturbation expansion near axis {axis + 1}: error against $\\epsilon$")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     return ax
