@@ -34,7 +34,7 @@ def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):
     assert main(["demo", "--out", str(out)]) == 0
     written = sorted(p.name for p in out.glob("*.png"))
     assert {"flip_omega.png", "flip_polhode.png", "flip_herpolhode.png"} <= set(written)
-    assert "flip_drift_splitting.png" in written
+    assert {"flip_drift_splitting.png", "perturbation_error.png"} <= set(written)
     for name in written:
         image = imread(out / name)[..., :3]
         assert image.shape[0] > 200 and image.shape[1] > 200
