@@ -58,11 +58,15 @@ pub enum Error {
         /// What happened.
         reason: String,
     },
+    /// The run was cancelled through its [`crate::dynamics::Monitor`].
+    #[error("The integration was interrupted (its monitor was cancelled).")]
+    Interrupted,
 }
 
 impl Error {
     /// The same error with the argument it names rewritten by `f` (e.g. to add an index or a
-    /// body number); for [`Error::NoConvergence`], the method's name.
+    /// body number); for [`Error::NoConvergence`], the method's name; [`Error::Interrupted`],
+    /// which names nothing, is returned as it is.
     #[must_use]
     pub fn map_name(self, f: impl FnOnce(String) -> String) -> Self {
         match self {
@@ -95,6 +99,7 @@ impl Error {
                 method: f(method),
                 reason,
             },
+            Error::Interrupted => Error::Interrupted,
         }
     }
 }

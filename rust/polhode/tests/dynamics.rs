@@ -1674,3 +1674,98 @@ fn splitting_omega_only_keeps_the_norm_of_the_angular_momentum() {
         }
     }
 }
+
+/// A monitor changes no result, records the time integrated and the runs finished, and a
+/// cancelled one stops every method (and a batch) with `Error::Interrupted`, also mid-run.
+#[test]
+fn monitor_progress_and_cancel() {
+    let moments = Vector3::new(2.0, 3.0, 4.0);
+    let state0 = State::from_omega(Vector3::new(0.1, 1.0, 0.1));
+    let times = [0.5, 20.0, 40.0];
+    let torque = BodyConstantTorque::new(Vector3::new(0.0, 0.0, 1e-3)).unwrap();
+    let mut methods = fixed_methods(1e-3);
+    methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-12))));
+    for (name, method) in &methods {
+        for torque in [None, Some(&torque as &dyn Torque)] {
+            let options = Options {
+                torque,
+                ..Options::default()
+            };
+            let plain = run(*method, moments, &state0, &times, &options);
+            let monitor = Monitor::new();
+            let watched = Options {
+                monitor: Some(&monitor),
+                ..options
+            };
+            let sol = run(*method, moments, &state0, &times, &watched);
+            assert_eq!(sol, plain, "{name}");
+            assert!((monitor.elapsed() - 40.0).abs() <= 1e-9, "{name}");
+            assert_eq!(monitor.finished(), 1, "{name}");
+            monitor.cancel();
+            let result = integrate(method, &moments, &state0, &times, &watched);
+            assert_eq!(result.unwrap_err(), Error::Interrupted, "{name}");
+        }
+    }
+    // A batch: the time of all bodies, then skipped once cancelled.
+    let n = 5;
+    let (all_moments, states) = (vec![moments; n], vec![state0; n]);
+    let monitor = Monitor::new();
+    let options = Options {
+        monitor: Some(&monitor),
+        ..Options::default()
+    };
+    let method = Method::Rk4 { dt: 1e-2 };
+    integrate_batch(&method, &all_moments, &states, &times, &options).unwrap();
+    assert!((monitor.elapsed() - 40.0 * n as f64).abs() <= 1e-9);
+    assert_eq!(monitor.finished(), n as u64);
+    monitor.cancel();
+    let result = integrate_batch(&method, &all_moments, &states, &times, &options);
+    assert_eq!(result.unwrap_err(), Error::Interrupted);
+    // Cancelled from another thread while running (1e10 steps unless stopped), for a fixed
+    // step and the adaptive method.
+    for method in [
+        Method::Rk4 { dt: 1e-6 },
+        Method::Dop853(Dop853Options {
+            max_step: Some(1e-6),
+            ..Dop853Options::default()
+        }),
+    ] {
+        let monitor = Monitor::new();
+        let options = Options {
+            monitor: Some(&monitor),
+            max_steps: u64::MAX,
+            ..Options::default()
+        };
+        let result = std::thread::scope(|scope| {
+            let running = scope.spawn(|| integrate(&method, &moments, &state0, &[1e4], &options));
+            while monitor.elapsed() == 0.0 {
+                std::thread::yield_now();
+            }
+            monitor.cancel();
+            running.join().unwrap()
+        });
+        assert_eq!(result.unwrap_err(), Error::Interrupted, "{method:?}");
+        assert!(monitor.elapsed() > 0.0 && monitor.elapsed() < 1e4);
+        assert_eq!(monitor.finished(), 0);
+    }
+    // A function called at each look (every CHECK_EVERY steps) may cancel: here at the third.
+    let looks = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let monitor = Monitor::with_on_look({
+        let looks = std::sync::Arc::clone(&looks);
+        move |monitor| {
+            if looks.fetch_add(1, std::sync::atomic::Ordering::Relaxed) == 2 {
+                monitor.cancel();
+            }
+        }
+    });
+    let options = Options {
+        monitor: Some(&monitor),
+        ..Options::default()
+    };
+    let dt = 1e-3;
+    let result = integrate(&Method::Rk4 { dt }, &moments, &state0, &[1e4], &options);
+    assert_eq!(result.unwrap_err(), Error::Interrupted);
+    assert_eq!(looks.load(std::sync::atomic::Ordering::Relaxed), 3);
+    let looked = 3.0 * f64::from(Monitor::CHECK_EVERY) * dt;
+    assert!((monitor.elapsed() - looked).abs() <= 1e-9 * looked);
+}

@@ -1,5 +1,8 @@
 //! Integration over a list of output times, for one body or a batch of bodies.
 
+use std::cell::Cell;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 use rayon::prelude::*;
 
@@ -75,6 +78,221 @@ impl Dop853Options {
     }
 }
 
+/// Progress and cancellation shared with running integrations (see [`Options::monitor`]).
+///
+/// The integration loops look at it only every [`Monitor::CHECK_EVERY`] steps (or evaluations
+/// of the vector field for `Dop853`), so that watching costs nothing measurable: they add the
+/// time integrated since their last look to [`Monitor::elapsed`], and stop with
+/// [`Error::Interrupted`] once [`Monitor::cancel`] has been called (from any thread). A
+/// finished run adds the rest of its span and counts itself in [`Monitor::finished`]. One
+/// monitor may watch many runs (a batch): `elapsed` is then their sum. A monitor built
+/// [`Monitor::with_on_look`] also calls a function of yours at each look, on the thread of the
+/// run (to show progress, or to decide to cancel).
+///
+/// ```
+/// use nalgebra::Vector3;
+/// use polhode::dynamics::{integrate, Method, Monitor, Options, State};
+/// use polhode::Error;
+///
+/// // A 2 kg m^2 / 3 / 4 body spinning at 1 rad/s, for 100 s in steps of 10 ms.
+/// let moments = Vector3::new(2.0, 3.0, 4.0);
+/// let state0 = State::from_omega(Vector3::new(0.1, 1.0, 0.1));
+/// let method = Method::Rk4 { dt: 0.01 };
+/// let monitor = Monitor::new();
+/// let options = Options { monitor: Some(&monitor), ..Options::default() };
+/// integrate(&method, &moments, &state0, &[100.0], &options).unwrap();
+/// assert!((monitor.elapsed() - 100.0).abs() < 1e-9 && monitor.finished() == 1);
+///
+/// monitor.cancel();
+/// let result = integrate(&method, &moments, &state0, &[100.0], &options);
+/// assert_eq!(result.unwrap_err(), Error::Interrupted);
+/// ```
+#[derive(Default)]
+pub struct Monitor {
+    cancelled: AtomicBool,
+    /// The `f64` bits of the time integrated so far, summed over the runs watched.
+    elapsed: AtomicU64,
+    finished: AtomicU64,
+    on_look: Option<OnLook>,
+}
+
+/// A function called at each look (see [`Monitor::with_on_look`]).
+type OnLook = Box<dyn Fn(&Monitor) + Send + Sync>;
+
+impl std::fmt::Debug for Monitor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Monitor")
+            .field("cancelled", &self.is_cancelled())
+            .field("elapsed", &self.elapsed())
+            .field("finished", &self.finished())
+            .field("on_look", &self.on_look.is_some())
+            .finish()
+    }
+}
+
+impl Monitor {
+    /// Steps (or `Dop853` evaluations of the vector field) between two looks at the monitor.
+    pub const CHECK_EVERY: u32 = 4096;
+
+    /// A monitor with nothing recorded and not cancelled.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A monitor that calls `on_look(&monitor)` at each look of a run, on the run's thread
+    /// (so from several threads at once in a batch), after recording its progress and before
+    /// checking for cancellation: `on_look` may call [`Monitor::cancel`]. It should be quick,
+    /// or rate-limit itself (a few thousand steps can take microseconds).
+    #[must_use]
+    pub fn with_on_look(on_look: impl Fn(&Monitor) + Send + Sync + 'static) -> Self {
+        Self {
+            on_look: Some(Box::new(on_look)),
+            ..Self::default()
+        }
+    }
+
+    /// A look, as a run takes one every [`Monitor::CHECK_EVERY`] steps: calls the function
+    /// given to [`Monitor::with_on_look`], then [`Monitor::check`]. For loops outside this
+    /// crate that report to a monitor (with [`Monitor::add_elapsed`]).
+    pub fn look(&self) -> Result<()> {
+        if let Some(on_look) = &self.on_look {
+            on_look(self);
+        }
+        self.check()
+    }
+
+    /// Asks every run watched to stop at its next look, with [`Error::Interrupted`]; runs
+    /// not started yet stop at once.
+    pub fn cancel(&self) {
+        self.cancelled.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether [`Monitor::cancel`] was called.
+    #[must_use]
+    pub fn is_cancelled(&self) -> bool {
+        self.cancelled.load(Ordering::Relaxed)
+    }
+
+    /// `Err(Error::Interrupted)` if cancelled.
+    pub fn check(&self) -> Result<()> {
+        if self.is_cancelled() {
+            Err(Error::Interrupted)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The time integrated so far, summed over the runs watched (for N runs from `t0` to
+    /// `t_end`, `N (t_end - t0)` once all have finished).
+    #[must_use]
+    pub fn elapsed(&self) -> f64 {
+        f64::from_bits(self.elapsed.load(Ordering::Relaxed))
+    }
+
+    /// Adds `time` (the time a run advanced since it last reported) to [`Monitor::elapsed`].
+    pub fn add_elapsed(&self, time: f64) {
+        // A compare-and-swap loop: there is no atomic f64 addition. Called rarely.
+        let _ = self
+            .elapsed
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |bits| {
+                Some((f64::from_bits(bits) + time).to_bits())
+            });
+    }
+
+    /// The number of runs that finished successfully.
+    #[must_use]
+    pub fn finished(&self) -> u64 {
+        self.finished.load(Ordering::Relaxed)
+    }
+
+    /// Counts one more run finished.
+    pub fn add_finished(&self) {
+        self.finished.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+/// One run's reports to its monitor: a countdown of steps to the next look, and the time
+/// already added to [`Monitor::elapsed`]. Cells, so that a vector field (`&self`) can tick it.
+struct Progress<'a> {
+    monitor: Option<&'a Monitor>,
+    countdown: Cell<u32>,
+    reported: Cell<f64>,
+}
+
+impl<'a> Progress<'a> {
+    fn new(options: &Options<'a>) -> Self {
+        Self {
+            monitor: options.monitor,
+            countdown: Cell::new(Monitor::CHECK_EVERY),
+            reported: Cell::new(options.t0),
+        }
+    }
+
+    /// Steps (or evaluations) left before the next look.
+    #[inline(always)]
+    fn budget(&self) -> u32 {
+        self.countdown.get()
+    }
+
+    /// `done <= budget()` steps (or evaluations) done; `t()`, the time reached, is only
+    /// called at a look.
+    #[inline(always)]
+    fn spend(&self, done: u32, t: impl FnOnce() -> f64) -> Result<()> {
+        let left = self.countdown.get() - done;
+        self.countdown.set(left);
+        if left == 0 {
+            self.look(t())
+        } else {
+            Ok(())
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn look(&self, t: f64) -> Result<()> {
+        self.countdown.set(Monitor::CHECK_EVERY);
+        match self.monitor {
+            None => Ok(()),
+            Some(monitor) => {
+                self.report(monitor, t);
+                monitor.look()
+            }
+        }
+    }
+
+    fn report(&self, monitor: &Monitor, t: f64) {
+        let reported = self.reported.get();
+        if t > reported {
+            monitor.add_elapsed(t - reported);
+            self.reported.set(t);
+        }
+    }
+
+    /// The run reached `t_end` successfully.
+    fn finish(&self, t_end: f64) {
+        if let Some(monitor) = self.monitor {
+            self.report(monitor, t_end);
+            monitor.add_finished();
+        }
+    }
+}
+
+/// A vector field that ticks a [`Progress`] at each evaluation (for `Dop853`, whose loop
+/// lives in [`super::dop853`]); it returns exactly what `sys` returns.
+struct Watched<'s, 'p, S> {
+    sys: &'s S,
+    progress: &'s Progress<'p>,
+}
+
+impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
+    #[inline]
+    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
+        self.progress.spend(1, || t)?;
+        self.sys.rhs(segment, t, y)
+    }
+}
+
 /// Settings common to all methods.
 #[derive(Clone, Copy)]
 pub struct Options<'a> {
@@ -88,6 +306,9 @@ pub struct Options<'a> {
     pub torque: Option<&'a dyn Torque>,
     /// Largest number of steps (accepted and rejected), an error if exceeded (default `1e8`).
     pub max_steps: u64,
+    /// Progress record and cancel flag, looked at every [`Monitor::CHECK_EVERY`] steps
+    /// (default none).
+    pub monitor: Option<&'a Monitor>,
 }
 
 impl Default for Options<'_> {
@@ -97,6 +318,7 @@ impl Default for Options<'_> {
             with_attitude: true,
             torque: None,
             max_steps: 100_000_000,
+            monitor: None,
         }
     }
 }
@@ -278,14 +500,22 @@ fn fixed_loop<Y>(
             ),
         });
     }
+    let progress = Progress::new(options);
     let mut prev = options.t0;
     segments(options.t0, times, &breaks, |t, k| {
         let n = substeps(prev, t, dt);
         if n > 0.0 {
             let h = (t - prev) / n;
             let segment = Segment::new(prev, t);
-            for j in 0..n as u64 {
-                step(&segment, prev + j as f64 * h, y, h)?;
+            // Runs of steps between looks, so that the loop over steps is the same as without.
+            let (n, mut j) = (n as u64, 0);
+            while j < n {
+                let end = n.min(j + u64::from(progress.budget()));
+                for i in j..end {
+                    step(&segment, prev + i as f64 * h, y, h)?;
+                }
+                progress.spend((end - j) as u32, || prev + end as f64 * h)?;
+                j = end;
             }
         }
         prev = t;
@@ -294,6 +524,7 @@ fn fixed_loop<Y>(
             None => Ok(()),
         }
     })?;
+    progress.finish(prev);
     Ok(total as u64)
 }
 
@@ -549,11 +780,16 @@ fn run_dop853<S: System<N>, const N: usize>(
             }
         }
     };
+    let progress = Progress::new(options);
+    let watched = Watched {
+        sys,
+        progress: &progress,
+    };
     let (mut t, mut y, mut first) = (options.t0, y0, 0);
     for end in ends {
         let last = first + times[first..].partition_point(|&x| x <= end);
         let (y_end, h) = dop853::solve(
-            sys,
+            &watched,
             t,
             &y,
             end,
@@ -566,6 +802,7 @@ fn run_dop853<S: System<N>, const N: usize>(
         settings.first_step = h;
         (t, y, first) = (end, y_end, last);
     }
+    progress.finish(t);
     Ok(stats)
 }
 
@@ -579,8 +816,8 @@ fn run_dop853<S: System<N>, const N: usize>(
 /// freely and interpolates (7th-order dense output). Quaternions are returned normalised.
 ///
 /// Errors: invalid arguments (non-finite state, non-positive moment, `dt`, `rtol`, `atol`,
-/// decreasing times), too many steps, a failed Newton iteration, a torque error, or a solution
-/// that is no longer finite.
+/// decreasing times), too many steps, a failed Newton iteration, a torque error, a solution
+/// that is no longer finite, or [`Error::Interrupted`] once `options.monitor` is cancelled.
 pub fn integrate(
     method: &Method,
     moments: &Vector3<f64>,
@@ -600,6 +837,9 @@ pub fn integrate_body(
     times: &[f64],
     options: &Options,
 ) -> Result<Trajectory> {
+    if let Some(monitor) = options.monitor {
+        monitor.check()?;
+    }
     check_method(method)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
@@ -670,7 +910,9 @@ pub fn integrate_body(
 ///
 /// Each body's trajectory is bitwise identical to [`integrate`] on it alone, whatever the
 /// number of threads. On failure, the error of the first failing body (by index) is returned,
-/// its argument name suffixed with the body index.
+/// its argument name suffixed with the body index. Once `options.monitor` is cancelled, the
+/// bodies running stop at their next look and those not started are skipped: the result is
+/// then [`Error::Interrupted`] (or an earlier body's error).
 pub fn integrate_batch(
     method: &Method,
     moments: &[Vector3<f64>],
