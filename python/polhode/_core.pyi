@@ -1,5 +1,6 @@
 """Type stubs for the compiled core (checked by ``python -m mypy.stubtest polhode._core``)."""
 
+from collections.abc import Callable
 from typing import Any, final
 
 import numpy as np
@@ -101,6 +102,7 @@ def simulate(
     torque: tuple[Any, ...] | None,
     with_attitude: bool,
     max_steps: int,
+    progress: Callable[[float], object] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, NDArray[np.uint64]]: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]

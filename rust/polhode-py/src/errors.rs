@@ -1,7 +1,7 @@
 //! The Python exceptions and the mapping from the core's `Error` to them.
 
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -40,6 +40,7 @@ impl From<CoreError> for PyErr {
         match error.0 {
             polhode::Error::InvalidInertia { .. } => InertiaError::new_err(message),
             polhode::Error::NoConvergence { .. } => PyRuntimeError::new_err(message),
+            polhode::Error::Interrupted => PyKeyboardInterrupt::new_err(message),
             _ => PolhodeError::new_err(message),
         }
     }

@@ -5,8 +5,15 @@
 //! arrive as a plain spec tree of tuples, parsed here with the GIL held into [`TorqueSpec`],
 //! then built into a Rust torque per body (a gravity-gradient torque needs each body's moments)
 //! inside the parallel loop.
+//!
+//! Every [`POLL`] of a long run, the calling thread looks for Ctrl-C (`check_signals`) and
+//! reports progress ([`Watch`]); on an exception it cancels the run through its [`Monitor`]
+//! and raises once the run has stopped.
 
+use std::sync::mpsc::{sync_channel, RecvTimeoutError, TryRecvError};
 use std::sync::{Arc, Mutex};
+use std::thread::ThreadId;
+use std::time::{Duration, Instant};
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use numpy::ndarray::{Array2, Array3};
@@ -14,9 +21,9 @@ use numpy::{
     IntoPyArray, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use polhode::dynamics::{
-    integrate, BodyConstantTorque, Dop853Options, FnTorque, GravityGradient, Method, Options,
-    PivotGravity, SpaceConstantTorque, SplittingOrder, State, Torque, TorqueSum, Trajectory,
-    Windowed,
+    integrate, BodyConstantTorque, Dop853Options, FnTorque, GravityGradient, Method, Monitor,
+    Options, PivotGravity, SpaceConstantTorque, SplittingOrder, State, Torque, TorqueSum,
+    Trajectory, Windowed,
 };
 use polhode::exact::{FreeRotation, Regime};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -255,18 +262,35 @@ fn parse_method(
     }))
 }
 
-/// One body's trajectory by the closed form, at each output time (`t0` shifts the origin).
+/// Output times of the closed form between two looks at the monitor.
+const EXACT_CHECK_EVERY: usize = 256;
+
+/// One body's trajectory by the closed form, at each output time (`t0` shifts the origin),
+/// reporting to `monitor` as the integrators do.
 fn exact_trajectory(
     moments: &Vector3<f64>,
     state: &State,
     times: &[f64],
     t0: f64,
     with_attitude: bool,
+    monitor: &Monitor,
 ) -> polhode::Result<Trajectory> {
+    monitor.check()?;
     let free = FreeRotation::new(*moments, state.omega, state.attitude)?;
     let mut omega = Vec::with_capacity(times.len());
     let mut attitude = with_attitude.then(|| Vec::with_capacity(times.len()));
-    for &t in times {
+    let mut reported = t0;
+    let mut report = |t: f64| {
+        if t > reported {
+            monitor.add_elapsed(t - reported);
+            reported = t;
+        }
+    };
+    for (k, &t) in times.iter().enumerate() {
+        if k % EXACT_CHECK_EVERY == EXACT_CHECK_EVERY - 1 {
+            report(t);
+            monitor.check()?;
+        }
         match attitude.as_mut() {
             Some(list) => {
                 let (w, q) = free.state(t - t0);
@@ -276,6 +300,8 @@ fn exact_trajectory(
             None => omega.push(free.omega(t - t0)),
         }
     }
+    report(times.last().copied().unwrap_or(t0));
+    monitor.add_finished();
     let stats = polhode::dynamics::Stats {
         steps: 0,
         rejected_steps: 0,
@@ -288,13 +314,134 @@ fn exact_trajectory(
     })
 }
 
+/// How often a long run looks for Ctrl-C and reports progress.
+const POLL: Duration = Duration::from_millis(50);
+
+/// How long the calling thread waits for a batch without sleeping: a short batch then
+/// returns without the ~10 us of a sleep and a wake-up.
+const SPIN: Duration = Duration::from_micros(100);
+
+/// The calling thread's watch over a run: every [`POLL`] it attaches, checks the signals
+/// (Ctrl-C raises KeyboardInterrupt there) and calls `progress(fraction)`. An exception from
+/// either is kept to be raised, and cancels the monitor: the run stops at its next look.
+struct Watch {
+    caller: ThreadId,
+    progress: Option<Py<PyAny>>,
+    /// Bodies, and the span `t_end - t0` of each.
+    n: usize,
+    span: f64,
+    last_poll: Mutex<Instant>,
+    raised: Mutex<Option<PyErr>>,
+}
+
+impl Watch {
+    fn new(progress: Option<Py<PyAny>>, n: usize, span: f64) -> Self {
+        Self {
+            caller: std::thread::current().id(),
+            progress,
+            n,
+            span,
+            last_poll: Mutex::new(Instant::now()),
+            raised: Mutex::new(None),
+        }
+    }
+
+    /// The fraction done: the time integrated over all bodies' spans, or the bodies finished.
+    fn fraction(&self, monitor: &Monitor) -> f64 {
+        let done = if self.span > 0.0 {
+            monitor.elapsed() / (self.n as f64 * self.span)
+        } else {
+            monitor.finished() as f64 / self.n as f64
+        };
+        done.clamp(0.0, 1.0)
+    }
+
+    /// Polls if on the calling thread and [`POLL`] has passed since the last poll (or
+    /// `force`). Called at each look of a run (every few thousand steps), on any thread.
+    fn poll(&self, monitor: &Monitor, force: bool) {
+        if std::thread::current().id() != self.caller || monitor.is_cancelled() {
+            return;
+        }
+        let now = Instant::now();
+        if let Ok(mut last) = self.last_poll.lock() {
+            if !force && now.duration_since(*last) < POLL {
+                return;
+            }
+            *last = now;
+        }
+        let fraction = self.fraction(monitor);
+        let polled = Python::attach(|py| -> PyResult<()> {
+            py.check_signals()?;
+            if let Some(progress) = &self.progress {
+                progress.call1(py, (fraction,))?;
+            }
+            Ok(())
+        });
+        if let Err(error) = polled {
+            if let Ok(mut slot) = self.raised.lock() {
+                slot.get_or_insert(error);
+            }
+            monitor.cancel();
+        }
+    }
+
+    fn take_raised(&self) -> Option<PyErr> {
+        self.raised.lock().ok().and_then(|mut slot| slot.take())
+    }
+}
+
+/// Runs `work` (a parallel batch) on the rayon pool while the calling thread, the GIL
+/// released, waits for it and polls `watch` every [`POLL`]: a batch's threads cannot check
+/// the signals, only the main thread can. The result comes back through a channel, so that
+/// the wait ends as soon as it is sent.
+fn run_on_pool<T: Send>(
+    monitor: &Monitor,
+    watch: &Watch,
+    work: impl FnOnce() -> T + Send,
+) -> Option<T> {
+    rayon::in_place_scope(|scope| {
+        let (sender, receiver) = sync_channel(1);
+        scope.spawn(move |_| {
+            // The receiver outlives the scope's jobs: the send cannot fail.
+            let _ = sender.send(work());
+        });
+        let start = Instant::now();
+        loop {
+            match receiver.try_recv() {
+                Ok(value) => return Some(value),
+                Err(TryRecvError::Disconnected) => return None,
+                Err(TryRecvError::Empty) if start.elapsed() < SPIN => std::thread::yield_now(),
+                Err(TryRecvError::Empty) => break,
+            }
+        }
+        loop {
+            match receiver.recv_timeout(POLL) {
+                Ok(value) => return Some(value),
+                // `work` panicked: the scope re-raises its panic when it ends.
+                Err(RecvTimeoutError::Disconnected) => return None,
+                // On an exception the monitor is cancelled; the work ends at its next look.
+                Err(RecvTimeoutError::Timeout) => watch.poll(monitor, true),
+            }
+        }
+    })
+}
+
 /// Integrates N bodies (principal moments (N, 3), omega0 (N, 3), quaternion0 (N, 4) xyzw) to
 /// the output times; returns omega (N, M, 3), quaternion (N, M, 4) or None, and stats (N, 3):
 /// steps, rejected steps, evaluations.
+///
+/// `progress`, if given, is called with the fraction of the work done (in [0, 1],
+/// non-decreasing) every 50 ms of a long run and with 1.0 at the end, on the calling thread.
+/// Ctrl-C interrupts the run (within 50 ms plus a few thousand steps) with KeyboardInterrupt;
+/// an exception raised by `progress` also stops it, and is raised.
+///
+/// A single body (or a serial run with a callable torque) runs on the calling thread, which
+/// polls at the run's looks at its monitor: a short call never attaches the GIL, nor hands
+/// work to another thread. A batch runs on the rayon pool (see [`run_on_pool`]).
 #[pyfunction]
 #[pyo3(signature = (
     moments, omega0, quaternion0, times, *, t0, method, dt, order, rtol, atol, torque,
-    with_attitude, max_steps
+    with_attitude, max_steps, progress=None
 ))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub fn simulate<'py>(
@@ -312,6 +459,7 @@ pub fn simulate<'py>(
     torque: Option<Bound<'py, PyAny>>,
     with_attitude: bool,
     max_steps: u64,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(
     Bound<'py, PyArray3<f64>>,
     Option<Bound<'py, PyArray3<f64>>>,
@@ -330,15 +478,28 @@ pub fn simulate<'py>(
              \"dop853\" or another integrator.",
         ));
     }
+    if let Some(progress) = progress.as_ref().filter(|p| !p.is_callable()) {
+        return Err(PyTypeError::new_err(format!(
+            "Expected `progress` to be a callable taking the fraction done, or None, got {}.",
+            progress.get_type().name()?
+        )));
+    }
+    let progress = progress.map(Bound::unbind);
     let serial = spec.as_ref().is_some_and(contains_callable);
     let raised: Raised = Arc::new(Mutex::new(None));
+    let span = times.last().map_or(0.0, |&t| t - t0);
+    let watch = Arc::new(Watch::new(progress, n, span));
+    let monitor = Monitor::with_on_look({
+        let watch = Arc::clone(&watch);
+        move |monitor| watch.poll(monitor, false)
+    });
     let run = |i: usize| -> polhode::Result<Trajectory> {
         let m = Vector3::from(moments[i]);
         let q = quaternion0[i];
         let attitude = UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2]));
         let state = State::new(Vector3::from(omega0[i]), attitude);
         let result = match (&method, &spec) {
-            (None, _) => exact_trajectory(&m, &state, &times, t0, with_attitude),
+            (None, _) => exact_trajectory(&m, &state, &times, t0, with_attitude, &monitor),
             (Some(method), spec) => {
                 let built = spec
                     .as_ref()
@@ -349,6 +510,7 @@ pub fn simulate<'py>(
                     with_attitude,
                     torque: built.as_deref().map(|t| t as &dyn Torque),
                     max_steps,
+                    monitor: Some(&monitor),
                 };
                 integrate(method, &m, &state, &times, &options)
             }
@@ -361,13 +523,25 @@ pub fn simulate<'py>(
             }
         })
     };
-    let results: Vec<polhode::Result<Trajectory>> = py.detach(|| {
-        if serial {
-            (0..n).map(run).collect()
+    // Inline on the calling thread: one body, a callable torque (serial: it attaches the GIL),
+    // or a call from a thread of the pool itself (a callable torque running a simulation,
+    // which could otherwise wait for a job queued behind its own thread).
+    let inline = n == 1 || serial || rayon::current_thread_index().is_some();
+    let results: Option<Vec<polhode::Result<Trajectory>>> = py.detach(|| {
+        if inline {
+            Some((0..n).map(run).collect())
         } else {
-            (0..n).into_par_iter().map(run).collect()
+            run_on_pool(&monitor, &watch, || {
+                (0..n).into_par_iter().map(run).collect()
+            })
         }
     });
+    if let Some(error) = watch.take_raised() {
+        return Err(error);
+    }
+    let Some(results) = results else {
+        unreachable!("a panic of the batch is re-raised by its scope");
+    };
     if let Some(error) = raised.lock().ok().and_then(|mut slot| slot.take()) {
         return Err(error);
     }
@@ -397,6 +571,9 @@ pub fn simulate<'py>(
         stats[[i, 0]] = s.steps;
         stats[[i, 1]] = s.rejected_steps;
         stats[[i, 2]] = s.rhs_evaluations;
+    }
+    if let Some(progress) = &watch.progress {
+        progress.call1(py, (1.0,))?;
     }
     Ok((
         omega.into_pyarray(py),
