@@ -40,11 +40,16 @@ impl State {
 
     /// Checks that every component is finite; `name` names the argument in the error.
     pub(crate) fn check_finite(&self, name: &str) -> Result<()> {
+        // The names are formatted only on failure: this runs once per body of a batch.
         for i in 0..3 {
-            finite(&format!("{name}.omega[{i}]"), self.omega[i])?;
+            if !self.omega[i].is_finite() {
+                finite(&format!("{name}.omega[{i}]"), self.omega[i])?;
+            }
         }
         for i in 0..4 {
-            finite(&format!("{name}.attitude[{i}]"), self.attitude.coords[i])?;
+            if !self.attitude.coords[i].is_finite() {
+                finite(&format!("{name}.attitude[{i}]"), self.attitude.coords[i])?;
+            }
         }
         Ok(())
     }
@@ -71,13 +76,18 @@ impl Moments {
     /// Validates the principal moments: each must be finite and strictly positive (the
     /// integrators need `I^-1`; a zero moment is a singular body).
     pub fn new(moments: Vector3<f64>) -> Result<Self> {
+        // The names are formatted only on failure: this runs once per body of a batch.
         for i in 0..3 {
-            positive(&format!("moments[{i}]"), moments[i])?;
+            if !(moments[i].is_finite() && moments[i] > 0.0) {
+                positive(&format!("moments[{i}]"), moments[i])?;
+            }
         }
         let [i1, i2, i3] = [moments[0], moments[1], moments[2]];
         let inverse = Vector3::new(1.0 / i1, 1.0 / i2, 1.0 / i3);
         for i in 0..3 {
-            finite(&format!("1 / moments[{i}]"), inverse[i])?;
+            if !inverse[i].is_finite() {
+                finite(&format!("1 / moments[{i}]"), inverse[i])?;
+            }
         }
         let euler = Vector3::new((i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3);
         Ok(Self {

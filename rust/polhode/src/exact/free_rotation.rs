@@ -258,9 +258,14 @@ impl FreeRotation {
         omega0: Vector3<f64>,
         attitude0: UnitQuaternion<f64>,
     ) -> Result<Self> {
+        // The names are formatted only on failure: this runs once per body of a batch.
         for i in 0..3 {
-            positive(&format!("moments[{i}]"), moments[i])?;
-            finite(&format!("omega0[{i}]"), omega0[i])?;
+            if !(moments[i].is_finite() && moments[i] > 0.0) {
+                positive(&format!("moments[{i}]"), moments[i])?;
+            }
+            if !omega0[i].is_finite() {
+                finite(&format!("omega0[{i}]"), omega0[i])?;
+            }
         }
         if !attitude0.coords.iter().all(|x| x.is_finite()) {
             return Err(Error::InvalidArgument {

@@ -283,7 +283,9 @@ impl Add for &MassProperties {
 
 fn check_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
     for k in 0..3 {
-        finite(&format!("{name}[{k}]"), v[k])?;
+        if !v[k].is_finite() {
+            finite(&format!("{name}[{k}]"), v[k])?;
+        }
     }
     Ok(())
 }
@@ -293,7 +295,9 @@ fn check_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
 pub(crate) fn check_rotation(name: &str, r: &Matrix3<f64>) -> Result<()> {
     for row in 0..3 {
         for col in 0..3 {
-            finite(&format!("{name}[{row}, {col}]"), r[(row, col)])?;
+            if !r[(row, col)].is_finite() {
+                finite(&format!("{name}[{row}, {col}]"), r[(row, col)])?;
+            }
         }
     }
     let defect = (r.transpose() * r - Matrix3::identity()).norm();
