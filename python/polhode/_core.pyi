@@ -103,7 +103,15 @@ def simulate(
     with_attitude: bool,
     max_steps: int,
     progress: Callable[[float], object] | None = None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, NDArray[np.uint64]]: ...
+    axes: NDArray[np.float64] | None = None,
+) -> tuple[
+    NDArray[np.float64],
+    NDArray[np.float64] | None,
+    NDArray[np.float64] | None,
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.uint64],
+]: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]
 ) -> dict[str, Any]: ...

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -86,6 +87,12 @@ def _shape(shape: tuple[int, ...]) -> str:
     return f"({shape[0]},)" if len(shape) == 1 else "(" + ", ".join(map(str, shape)) + ")"
 
 
+_IDENTITY = np.eye(3)
+_IDENTITY.flags.writeable = False
+_NO_ROTATION = np.array([[0.0, 0.0, 0.0, 1.0]])
+_NO_ROTATION.flags.writeable = False
+
+
 def _resolve_body(
     body: Any, gravity: Gravity | None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
@@ -102,42 +109,16 @@ def _resolve_body(
         return p.moments[None, :], p.axes, False
     array = _as_float_array("body", body)
     if array.shape == (3,):
-        return array[None, :], np.eye(3), False
+        return array[None, :], _IDENTITY, False
     if array.shape == (3, 3):
         p = principal(array)
         return p.moments[None, :], p.axes, False
     if array.ndim == 2 and array.shape[1] == 3:
-        return array, np.eye(3), True
+        return array, _IDENTITY, True
     raise _core.PolhodeError(
         "Expected `body` to be a polhode.Body, principal moments (3,), an inertia tensor (3, 3) "
         f"or a batch of principal moments (N, 3), got shape {_shape(array.shape)}."
     )
-
-
-def _quaternion_product(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Hamilton product of scalar-last quaternions, broadcast over leading axes."""
-    av, aw = a[..., :3], a[..., 3:]
-    bv, bw = b[..., :3], b[..., 3:]
-    vector = aw * bv + bw * av + np.cross(av, bv)
-    scalar = aw * bw - np.sum(av * bv, axis=-1, keepdims=True)
-    return np.concatenate([vector, scalar], axis=-1)
-
-
-def _conjugate(q: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.concatenate([-q[..., :3], q[..., 3:]], axis=-1)
-
-
-def _rotate(q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """v rotated by the unit quaternions q (xyzw): v + w t + q_vec x t with t = 2 q_vec x v."""
-    qv, qw = q[..., :3], q[..., 3:]
-    t = 2.0 * np.cross(qv, v)
-    return v + qw * t + np.cross(qv, t)
-
-
-def _matrix_to_quaternion(matrix: NDArray[np.float64]) -> NDArray[np.float64]:
-    from scipy.spatial.transform import Rotation
-
-    return np.asarray(Rotation.from_matrix(matrix).as_quat(), dtype=np.float64)
 
 
 def _times(t: Any, t0: float) -> NDArray[np.float64]:
@@ -149,10 +130,11 @@ def _times(t: Any, t0: float) -> NDArray[np.float64]:
             "Expected `t` to be an end time or output times of shape (M,), "
             f"got {_shape(times.shape)}."
         )
-    if not np.all(np.isfinite(times)):
+    if not np.isfinite(times).all():
         raise _core.PolhodeError(f"Expected `t` to be finite, got {times[~np.isfinite(times)][0]}.")
-    if np.any(np.diff(times) < 0):
-        k = int(np.argmax(np.diff(times) < 0))
+    decreasing = times[1:] < times[:-1]
+    if decreasing.any():
+        k = int(np.argmax(decreasing))
         raise _core.PolhodeError(
             f"Expected `t` to be non-decreasing, got t[{k}] = {times[k]} > "
             f"t[{k + 1}] = {times[k + 1]}."
@@ -169,7 +151,7 @@ def _orientation(orientation0: Any, n: int) -> NDArray[np.float64]:
     from scipy.spatial.transform import Rotation
 
     if orientation0 is None:
-        return np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))
+        return _NO_ROTATION if n == 1 else np.tile(_NO_ROTATION, (n, 1))
     if isinstance(orientation0, Rotation):
         q = orientation0.as_quat().reshape(-1, 4)
     else:
@@ -304,9 +286,9 @@ def simulate(
     torque_model: Torque | None = None if torque is None else as_torque(torque)
     gravity = None if torque_model is None else torque_model._gravity()
     moments, axes, batch = _resolve_body(body, gravity)
-    if not np.all(np.isfinite(moments)):
+    if not np.isfinite(moments).all():
         raise _core.PolhodeError("Expected the principal moments of `body` to be finite.")
-    if np.any(moments <= 0):
+    if (moments <= 0).any():
         raise _core.PolhodeError(
             "Expected `body` to have positive principal moments (Euler's equations need I^-1; "
             f"a rod or a point mass has a zero moment), got {moments[moments <= 0][0]}."
@@ -316,7 +298,7 @@ def simulate(
         raise _core.PolhodeError(
             f"Expected `omega0` to have shape (3,) or (N, 3), got {_shape(omega.shape)}."
         )
-    if not np.all(np.isfinite(omega)):
+    if not np.isfinite(omega).all():
         raise _core.PolhodeError(f"Expected `omega0` to be finite, got {omega.tolist()}.")
     batch = batch or omega.ndim == 2
     omega2 = omega.reshape(-1, 3)
@@ -326,15 +308,18 @@ def simulate(
             f"Expected `omega0` to have shape (3,) or ({moments.shape[0]}, 3) to match `body`, "
             f"got {_shape(omega.shape)}."
         )
-    moments = np.ascontiguousarray(np.broadcast_to(moments, (n, 3)))
-    omega_principal = np.ascontiguousarray(np.broadcast_to(omega2 @ axes, (n, 3)))
+    if moments.shape[0] != n:
+        moments = np.ascontiguousarray(np.broadcast_to(moments, (n, 3)))
+    omega_body0 = omega2 if omega2.shape[0] == n else np.tile(omega2, (n, 1))
     t0 = as_scalar("t0", t0)
-    if not np.isfinite(t0):
+    if not math.isfinite(t0):
         raise _core.PolhodeError(f"Expected `t0` to be finite, got {t0}.")
     order = as_integer("order", order, allowed=(2, 4, 6))
     max_steps = as_integer("max_steps", max_steps, minimum=1)
-    energy0 = 0.5 * np.sum(moments * omega_principal**2, axis=1)
-    if not np.all(np.isfinite(energy0)):
+    identity = axes is _IDENTITY
+    omega_p0 = omega_body0 if identity else omega_body0 @ axes
+    energy0 = 0.5 * np.sum(moments * omega_p0**2, axis=1)
+    if not np.isfinite(energy0).all():
         raise _core.PolhodeError(
             "Expected `omega0` and the moments of `body` to give a finite kinetic energy; "
             "it overflows double precision."
@@ -342,29 +327,26 @@ def simulate(
     times = _times(t, t0)
     if dt is not None:
         dt = as_scalar("dt", dt)
-        if not (np.isfinite(dt) and dt > 0):
+        if not (math.isfinite(dt) and dt > 0):
             raise _core.PolhodeError(f"Expected `dt` to be positive and finite, got {dt}.")
     rtol = as_scalar("rtol", rtol)
-    if not (np.isfinite(rtol) and rtol > 0):
+    if not (math.isfinite(rtol) and rtol > 0):
         raise _core.PolhodeError(f"Expected `rtol` to be positive and finite, got {rtol}.")
     if atol is not None:
         atol = as_scalar("atol", atol)
-        if not (np.isfinite(atol) and atol > 0):
+        if not (math.isfinite(atol) and atol > 0):
             raise _core.PolhodeError(f"Expected `atol` to be positive and finite, got {atol}.")
     if method == "auto":
         method = "exact" if torque_model is None else "dop853"
-    identity = bool(np.array_equal(axes, np.eye(3)))
-    q_axes = None if identity else _matrix_to_quaternion(axes)
     q_body0 = _orientation(orientation0, n)
-    q_principal0 = q_body0 if q_axes is None else _quaternion_product(q_body0, q_axes)
-    q_principal0 = np.ascontiguousarray(q_principal0)
     spec = None if torque_model is None else torque_model._spec(axes)
     callback, bar = _progress(progress)
     try:
-        omega_p, quat_p, stats = _core.simulate(
+        # The core converts to principal axes and back, and computes L and T (in parallel).
+        omega_body, quaternion, l_space, l_body, energy, stats = _core.simulate(
             moments,
-            omega_principal,
-            q_principal0,
+            omega_body0,
+            q_body0,
             times,
             t0=t0,
             method=method,
@@ -376,24 +358,11 @@ def simulate(
             with_attitude=bool(orientation),
             max_steps=max_steps,
             progress=callback,
+            axes=None if identity else np.ascontiguousarray(axes),
         )
     finally:
         if bar is not None:
             bar.close()
-    # Back to the body's own axes: omega_b = V omega_p, R_b = R_p V^T.
-    omega_body = omega_p @ axes.T
-    l_principal = omega_p * moments[:, None, :]
-    energy = 0.5 * np.einsum("nmk,nmk->nm", omega_p, l_principal)
-    quaternion = l_space = None
-    if quat_p is not None:
-        l_space = _rotate(quat_p, l_principal)
-        quaternion = quat_p if q_axes is None else _quaternion_product(quat_p, _conjugate(q_axes))
-        # One sign per trajectory: keep the quaternion continuous in time (q and -q are one
-        # rotation; scipy returns w >= 0).
-        flips = np.einsum("nmk,nmk->nm", quaternion[:, 1:], quaternion[:, :-1]) < 0
-        signs = np.cumprod(np.where(flips, -1.0, 1.0), axis=1)
-        quaternion[:, 1:] *= signs[:, :, None]
-    l_body = l_principal @ axes.T
     info = {
         "method": method,
         "steps": stats[:, 0],

@@ -15,7 +15,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 use numpy::ndarray::{Array2, Array3};
 use numpy::{
     IntoPyArray, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -426,9 +426,15 @@ fn run_on_pool<T: Send>(
     })
 }
 
-/// Integrates N bodies (principal moments (N, 3), omega0 (N, 3), quaternion0 (N, 4) xyzw) to
-/// the output times; returns omega (N, M, 3), quaternion (N, M, 4) or None, and stats (N, 3):
-/// steps, rejected steps, evaluations.
+/// Integrates N bodies (principal moments (N, 3); omega0 (N, 3) and quaternion0 (N, 4) xyzw in
+/// the body's own axes, whose principal axes are the columns of `axes`, a rotation, or the
+/// identity if None) to the output times.
+///
+/// Returns, in the body's own axes: omega (N, M, 3), the quaternion (N, M, 4) (continuous in
+/// time: q and -q are one rotation) or None, the angular momentum in space (N, M, 3) or None,
+/// the angular momentum in body axes (N, M, 3), the kinetic energy (N, M), and stats (N, 3):
+/// steps, rejected steps, evaluations. The conversions run here, in parallel, rather than in
+/// numpy: they cost a single-body call more than its integration did.
 ///
 /// `progress`, if given, is called with the fraction of the work done (in [0, 1],
 /// non-decreasing) every 50 ms of a long run and with 1.0 at the end, on the calling thread.
@@ -441,7 +447,7 @@ fn run_on_pool<T: Send>(
 #[pyfunction]
 #[pyo3(signature = (
     moments, omega0, quaternion0, times, *, t0, method, dt, order, rtol, atol, torque,
-    with_attitude, max_steps, progress=None
+    with_attitude, max_steps, progress=None, axes=None
 ))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub fn simulate<'py>(
@@ -460,15 +466,13 @@ pub fn simulate<'py>(
     with_attitude: bool,
     max_steps: u64,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<(
-    Bound<'py, PyArray3<f64>>,
-    Option<Bound<'py, PyArray3<f64>>>,
-    Bound<'py, PyArray2<u64>>,
-)> {
+    axes: Option<PyReadonlyArray2<'py, f64>>,
+) -> PyResult<Outputs<'py>> {
     let moments = rows::<3>("moments", &moments, None)?;
     let n = moments.len();
     let omega0 = rows::<3>("omega0", &omega0, Some(n))?;
     let quaternion0 = rows::<4>("quaternion0", &quaternion0, Some(n))?;
+    let frame = axes.map(|a| Frame::new(&a)).transpose()?;
     let times: Vec<f64> = times.as_array().to_vec();
     let method = parse_method(method, dt, order, rtol, atol)?;
     let spec = torque.as_ref().map(parse_torque).transpose()?;
@@ -497,7 +501,12 @@ pub fn simulate<'py>(
         let m = Vector3::from(moments[i]);
         let q = quaternion0[i];
         let attitude = UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2]));
-        let state = State::new(Vector3::from(omega0[i]), attitude);
+        let omega = Vector3::from(omega0[i]);
+        let state = match &frame {
+            // omega_p = V^T omega_b; R_p = R_b V.
+            Some(f) => State::new(f.matrix.transpose() * omega, attitude * f.rotation),
+            None => State::new(omega, attitude),
+        };
         let result = match (&method, &spec) {
             (None, _) => exact_trajectory(&m, &state, &times, t0, with_attitude, &monitor),
             (Some(method), spec) => {
@@ -549,37 +558,155 @@ pub fn simulate<'py>(
         .into_iter()
         .collect::<polhode::Result<Vec<_>>>()
         .map_err(CoreError)?;
-    let m = times.len();
-    let mut omega = Array3::<f64>::zeros((n, m, 3));
-    let mut quaternion = with_attitude.then(|| Array3::<f64>::zeros((n, m, 4)));
-    let mut stats = Array2::<u64>::zeros((n, 3));
-    for (i, trajectory) in trajectories.iter().enumerate() {
-        for (k, w) in trajectory.omega.iter().enumerate() {
-            for c in 0..3 {
-                omega[[i, k, c]] = w[c];
-            }
-        }
-        if let (Some(out), Some(list)) = (quaternion.as_mut(), trajectory.attitude.as_ref()) {
-            for (k, q) in list.iter().enumerate() {
-                let xyzw = [q.i, q.j, q.k, q.w];
-                for c in 0..4 {
-                    out[[i, k, c]] = xyzw[c];
-                }
-            }
-        }
-        let s = &trajectory.stats;
-        stats[[i, 0]] = s.steps;
-        stats[[i, 1]] = s.rejected_steps;
-        stats[[i, 2]] = s.rhs_evaluations;
-    }
+    let outputs = py.detach(|| {
+        assemble(
+            &trajectories,
+            &moments,
+            frame.as_ref(),
+            times.len(),
+            with_attitude,
+        )
+    });
     if let Some(progress) = &watch.progress {
         progress.call1(py, (1.0,))?;
     }
+    let m = times.len();
+    let bad = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
+    let shape = |data: Vec<f64>, k: usize| {
+        Array3::from_shape_vec((n, m, k), data)
+            .map(|a| a.into_pyarray(py))
+            .map_err(bad)
+    };
     Ok((
-        omega.into_pyarray(py),
-        quaternion.map(|q| q.into_pyarray(py)),
-        stats.into_pyarray(py),
+        shape(outputs.omega, 3)?,
+        outputs.quaternion.map(|q| shape(q, 4)).transpose()?,
+        outputs.l_space.map(|l| shape(l, 3)).transpose()?,
+        shape(outputs.l_body, 3)?,
+        Array2::from_shape_vec((n, m), outputs.energy)
+            .map_err(bad)?
+            .into_pyarray(py),
+        Array2::from_shape_vec((n, 3), outputs.stats)
+            .map_err(bad)?
+            .into_pyarray(py),
     ))
+}
+
+/// What `simulate` returns (see there).
+type Outputs<'py> = (
+    Bound<'py, PyArray3<f64>>,
+    Option<Bound<'py, PyArray3<f64>>>,
+    Option<Bound<'py, PyArray3<f64>>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<u64>>,
+);
+
+/// The body's principal axes: the columns of `matrix` (a rotation), as a quaternion too.
+struct Frame {
+    matrix: Matrix3<f64>,
+    rotation: UnitQuaternion<f64>,
+}
+
+impl Frame {
+    fn new(axes: &PyReadonlyArray2<'_, f64>) -> PyResult<Self> {
+        if axes.shape() != [3, 3] {
+            return Err(bad_shape("axes", "(3, 3)", axes.shape()));
+        }
+        let a = axes.as_array();
+        let matrix = Matrix3::from_fn(|r, c| a[[r, c]]);
+        let defect = (matrix.transpose() * matrix - Matrix3::identity()).norm();
+        if !(defect <= 1e-9 && matrix.determinant() > 0.0) {
+            return Err(PolhodeError::new_err(
+                "Expected `axes` to be a rotation matrix (orthonormal, det +1).",
+            ));
+        }
+        let rotation =
+            UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(matrix));
+        Ok(Self { matrix, rotation })
+    }
+}
+
+/// The outputs in the body's own axes, flat and row-major (see `simulate`).
+struct Assembled {
+    omega: Vec<f64>,
+    quaternion: Option<Vec<f64>>,
+    l_space: Option<Vec<f64>>,
+    l_body: Vec<f64>,
+    energy: Vec<f64>,
+    stats: Vec<u64>,
+}
+
+/// [`Assembled`] from the principal-axes trajectories, in parallel, one body per task.
+fn assemble(
+    trajectories: &[Trajectory],
+    moments: &[[f64; 3]],
+    frame: Option<&Frame>,
+    m: usize,
+    with_attitude: bool,
+) -> Assembled {
+    let n = trajectories.len();
+    let mut omega = vec![0.0; n * m * 3];
+    let mut l_body = vec![0.0; n * m * 3];
+    let mut energy = vec![0.0; n * m];
+    let mut stats = vec![0_u64; n * 3];
+    // Without the attitude, one placeholder per body keeps the zips below aligned.
+    let (qk, lk) = if with_attitude {
+        (4 * m, 3 * m)
+    } else {
+        (1, 1)
+    };
+    let mut quaternion = vec![0.0; n * qk];
+    let mut l_space = vec![0.0; n * lk];
+    omega
+        .par_chunks_mut(3 * m)
+        .zip(l_body.par_chunks_mut(3 * m))
+        .zip(energy.par_chunks_mut(m))
+        .zip(quaternion.par_chunks_mut(qk))
+        .zip(l_space.par_chunks_mut(lk))
+        .zip(stats.par_chunks_mut(3))
+        .zip(trajectories.par_iter().zip(moments.par_iter()))
+        .for_each(
+            |((((((w_out, lb_out), e_out), q_out), ls_out), s_out), (traj, mom))| {
+                let inertia = Vector3::from(*mom);
+                let mut previous: Option<Quaternion<f64>> = None;
+                for (j, w) in traj.omega.iter().enumerate() {
+                    let l = inertia.component_mul(w);
+                    e_out[j] = 0.5 * (w[0] * l[0] + w[1] * l[1] + w[2] * l[2]);
+                    let (wb, lb) = match frame {
+                        Some(f) => (f.matrix * w, f.matrix * l),
+                        None => (*w, l),
+                    };
+                    w_out[3 * j..3 * j + 3].copy_from_slice(wb.as_slice());
+                    lb_out[3 * j..3 * j + 3].copy_from_slice(lb.as_slice());
+                    if let Some(attitude) = traj.attitude.as_ref() {
+                        let qp = attitude[j];
+                        let ls = qp * l;
+                        ls_out[3 * j..3 * j + 3].copy_from_slice(ls.as_slice());
+                        // R_b = R_p V^T.
+                        let mut q = match frame {
+                            Some(f) => (qp * f.rotation.inverse()).into_inner(),
+                            None => qp.into_inner(),
+                        };
+                        // One sign per trajectory: continuous in time.
+                        if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
+                            q = -q;
+                        }
+                        previous = Some(q);
+                        q_out[4 * j..4 * j + 4].copy_from_slice(&[q.i, q.j, q.k, q.w]);
+                    }
+                }
+                let st = &traj.stats;
+                s_out.copy_from_slice(&[st.steps, st.rejected_steps, st.rhs_evaluations]);
+            },
+        );
+    Assembled {
+        omega,
+        quaternion: with_attitude.then_some(quaternion),
+        l_space: with_attitude.then_some(l_space),
+        l_body,
+        energy,
+        stats,
+    }
 }
 
 /// The torque-free motion's invariants: a dict with energy, angular_momentum_norm, regime,
