@@ -53,51 +53,50 @@ def _ratios(
 def _reading_work_precision(result: bench.WorkPrecision) -> list[str]:
     lines = []
     for which in ("omega", "attitude"):
+        lines.append(f"- Error of the {which}:")
         dop = _ratios(result, "polhode dop853", "scipy DOP853", which)
-        best = _ratios(result, None, "scipy DOP853", which)
         reached = [(lv, r) for lv, _, r in dop if r is not None]
         if reached:
             low = min(r for _, r in reached)
             high = max(r for _, r in reached)
             missed = [f"{lv:.0e}" for lv, r in reached if r < TARGET_SCIPY]
-            lines.append(
-                f"- Error of the {which}: polhode's dop853 is {low:.0f}x to {high:.0f}x faster "
-                f"than scipy's DOP853 at matching error (levels "
-                f"{', '.join(f'{lv:.0e}' for lv, _ in reached)}, those scipy reaches)"
-                + (
-                    f"; below the {TARGET_SCIPY:.0f}x target at {', '.join(missed)}."
-                    if missed
-                    else f", meeting the {TARGET_SCIPY:.0f}x target at every one."
-                )
+            verdict = (
+                f"below the {TARGET_SCIPY:.0f}x target at {', '.join(missed)}"
+                if missed
+                else f"the {TARGET_SCIPY:.0f}x target met at each"
             )
-        fastest = [
-            f"{lv:.0e}: {name} {r:.0f}x" for lv, name, r in best if r is not None and name != "-"
-        ]
-        if fastest:
             lines.append(
-                f"  polhode's fastest method at each level against scipy DOP853: "
-                f"{'; '.join(fastest)}."
+                f"  - polhode's dop853 against scipy's DOP853 at matching error: {low:.0f}x to "
+                f"{high:.0f}x faster at {', '.join(f'{lv:.0e}' for lv, _ in reached)}; "
+                f"{verdict}."
             )
         unreached = [f"{lv:.0e}" for lv, _, r in dop if r is None]
         if unreached:
             lines.append(
-                f"  Not compared at {', '.join(unreached)}: scipy's DOP853 (rtol >= 1e-12) "
-                "or polhode's dop853 does not get there on this case."
+                f"  - Not compared at {', '.join(unreached)}: scipy's DOP853 (rtol >= 1e-12, "
+                "within the time budget) or polhode's dop853 does not get there."
             )
-        mujoco = _ratios(result, None, "MuJoCo RK4", which)
-        mj = [(lv, name, r) for lv, name, r in mujoco if r is not None]
-        if mj:
-            slower = [f"{lv:.0e}" for lv, _, r in mj if r < 1.0]
+        best = _ratios(result, None, "scipy DOP853", which)
+        fastest = [f"{lv:.0e} {name} {r:.0f}x" for lv, name, r in best if r is not None]
+        if fastest:
             lines.append(
-                "  Against MuJoCo's RK4 (fastest polhode method at matching error): "
-                + "; ".join(f"{lv:.0e} {r:.0f}x" for lv, _, r in mj)
+                "  - polhode's fastest method at each level against scipy's DOP853: "
+                + "; ".join(fastest)
+                + "."
+            )
+        mujoco = [(lv, n, r) for lv, n, r in _ratios(result, None, "MuJoCo RK4", which) if r]
+        if mujoco:
+            slower = [f"{lv:.0e}" for lv, _, r in mujoco if r < 1.0]
+            lines.append(
+                "  - polhode's fastest method against MuJoCo's RK4: "
+                + "; ".join(f"{lv:.0e} {name} {r:.0f}x" for lv, name, r in mujoco)
                 + (f"; slower at {', '.join(slower)}." if slower else ".")
             )
     exact = result.get("polhode exact")
     if exact and exact.points:
         p = exact.points[0]
         lines.append(
-            f"- The exact solution: {p.median * 1e3:.3f} ms per call with errors "
+            f"- The exact solution: {p.median * 1e3:.3f} ms per call, with errors "
             f"{p.error_omega:.1e} (omega) and {p.error_attitude:.1e} rad (attitude) against the "
             "30-digit reference."
         )
