@@ -536,37 +536,47 @@ pub fn simulate<'py>(
     // or a call from a thread of the pool itself (a callable torque running a simulation,
     // which could otherwise wait for a job queued behind its own thread).
     let inline = n == 1 || serial || rayon::current_thread_index().is_some();
-    let results: Option<Vec<polhode::Result<Trajectory>>> = py.detach(|| {
+    let m = times.len();
+    let mut outputs = Assembled::zeros(n, m, with_attitude);
+    // Each body is integrated and written to its rows of the outputs in one task: no
+    // trajectory outlives its task. The first failure by body index is the one reported.
+    let failed: Mutex<Option<(usize, polhode::Error)>> = Mutex::new(None);
+    let one = |i: usize, rows: Rows<'_>| match run(i) {
+        Ok(trajectory) => write_body(&trajectory, &moments[i], frame.as_ref(), rows),
+        Err(error) => {
+            if let Ok(mut slot) = failed.lock() {
+                if slot.as_ref().is_none_or(|(k, _)| i < *k) {
+                    *slot = Some((i, error));
+                }
+            }
+        }
+    };
+    let finished = py.detach(|| {
         if inline {
-            Some((0..n).map(run).collect())
+            outputs
+                .rows()
+                .enumerate()
+                .for_each(|(i, rows)| one(i, rows));
+            Some(())
         } else {
+            let chunks = outputs.par_rows();
             run_on_pool(&monitor, &watch, || {
-                (0..n).into_par_iter().map(run).collect()
+                chunks.enumerate().for_each(|(i, rows)| one(i, rows));
             })
         }
     });
     if let Some(error) = watch.take_raised() {
         return Err(error);
     }
-    let Some(results) = results else {
+    if finished.is_none() {
         unreachable!("a panic of the batch is re-raised by its scope");
-    };
+    }
     if let Some(error) = raised.lock().ok().and_then(|mut slot| slot.take()) {
         return Err(error);
     }
-    let trajectories = results
-        .into_iter()
-        .collect::<polhode::Result<Vec<_>>>()
-        .map_err(CoreError)?;
-    let outputs = py.detach(|| {
-        assemble(
-            &trajectories,
-            &moments,
-            frame.as_ref(),
-            times.len(),
-            with_attitude,
-        )
-    });
+    if let Some((_, error)) = failed.into_inner().ok().flatten() {
+        return Err(CoreError(error).into());
+    }
     if let Some(progress) = &watch.progress {
         progress.call1(py, (1.0,))?;
     }
@@ -634,79 +644,121 @@ struct Assembled {
     l_body: Vec<f64>,
     energy: Vec<f64>,
     stats: Vec<u64>,
+    /// Output times per body.
+    m: usize,
 }
 
-/// [`Assembled`] from the principal-axes trajectories, in parallel, one body per task.
-fn assemble(
-    trajectories: &[Trajectory],
-    moments: &[[f64; 3]],
-    frame: Option<&Frame>,
-    m: usize,
-    with_attitude: bool,
-) -> Assembled {
-    let n = trajectories.len();
-    let mut omega = vec![0.0; n * m * 3];
-    let mut l_body = vec![0.0; n * m * 3];
-    let mut energy = vec![0.0; n * m];
-    let mut stats = vec![0_u64; n * 3];
-    // Without the attitude, one placeholder per body keeps the zips below aligned.
-    let (qk, lk) = if with_attitude {
-        (4 * m, 3 * m)
-    } else {
-        (1, 1)
-    };
-    let mut quaternion = vec![0.0; n * qk];
-    let mut l_space = vec![0.0; n * lk];
-    omega
-        .par_chunks_mut(3 * m)
-        .zip(l_body.par_chunks_mut(3 * m))
-        .zip(energy.par_chunks_mut(m))
-        .zip(quaternion.par_chunks_mut(qk))
-        .zip(l_space.par_chunks_mut(lk))
-        .zip(stats.par_chunks_mut(3))
-        .zip(trajectories.par_iter().zip(moments.par_iter()))
-        .for_each(
-            |((((((w_out, lb_out), e_out), q_out), ls_out), s_out), (traj, mom))| {
-                let inertia = Vector3::from(*mom);
-                let mut previous: Option<Quaternion<f64>> = None;
-                for (j, w) in traj.omega.iter().enumerate() {
-                    let l = inertia.component_mul(w);
-                    e_out[j] = 0.5 * (w[0] * l[0] + w[1] * l[1] + w[2] * l[2]);
-                    let (wb, lb) = match frame {
-                        Some(f) => (f.matrix * w, f.matrix * l),
-                        None => (*w, l),
-                    };
-                    w_out[3 * j..3 * j + 3].copy_from_slice(wb.as_slice());
-                    lb_out[3 * j..3 * j + 3].copy_from_slice(lb.as_slice());
-                    if let Some(attitude) = traj.attitude.as_ref() {
-                        let qp = attitude[j];
-                        let ls = qp * l;
-                        ls_out[3 * j..3 * j + 3].copy_from_slice(ls.as_slice());
-                        // R_b = R_p V^T.
-                        let mut q = match frame {
-                            Some(f) => (qp * f.rotation.inverse()).into_inner(),
-                            None => qp.into_inner(),
-                        };
-                        // One sign per trajectory: continuous in time.
-                        if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
-                            q = -q;
-                        }
-                        previous = Some(q);
-                        q_out[4 * j..4 * j + 4].copy_from_slice(&[q.i, q.j, q.k, q.w]);
-                    }
-                }
-                let st = &traj.stats;
-                s_out.copy_from_slice(&[st.steps, st.rejected_steps, st.rhs_evaluations]);
-            },
-        );
-    Assembled {
-        omega,
-        quaternion: with_attitude.then_some(quaternion),
-        l_space: with_attitude.then_some(l_space),
-        l_body,
-        energy,
-        stats,
+/// One body's rows of [`Assembled`]: omega, L in body axes, energy, quaternion, L in space
+/// (the last two empty without the attitude), stats.
+type Rows<'a> = (
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [f64],
+    &'a mut [u64],
+);
+
+impl Assembled {
+    fn zeros(n: usize, m: usize, with_attitude: bool) -> Self {
+        Self {
+            omega: vec![0.0; n * m * 3],
+            quaternion: with_attitude.then(|| vec![0.0; n * m * 4]),
+            l_space: with_attitude.then(|| vec![0.0; n * m * 3]),
+            l_body: vec![0.0; n * m * 3],
+            energy: vec![0.0; n * m],
+            stats: vec![0; n * 3],
+            m,
+        }
     }
+
+    /// Each body's [`Rows`], in order (on the calling thread).
+    fn rows(&mut self) -> impl Iterator<Item = Rows<'_>> {
+        let (m, n) = (self.m, self.stats.len() / 3);
+        let (qk, lk) = if self.quaternion.is_some() {
+            (4 * m, 3 * m)
+        } else {
+            (0, 0)
+        };
+        let q_rows = split_rows(self.quaternion.as_deref_mut().unwrap_or_default(), qk, n);
+        let ls_rows = split_rows(self.l_space.as_deref_mut().unwrap_or_default(), lk, n);
+        self.omega
+            .chunks_mut(3 * m)
+            .zip(self.l_body.chunks_mut(3 * m))
+            .zip(self.energy.chunks_mut(m))
+            .zip(q_rows)
+            .zip(ls_rows)
+            .zip(self.stats.chunks_mut(3))
+            .map(|(((((w, lb), e), q), ls), st)| (w, lb, e, q, ls, st))
+    }
+
+    /// [`Assembled::rows`] in parallel (rayon).
+    fn par_rows(&mut self) -> impl IndexedParallelIterator<Item = Rows<'_>> {
+        let m = self.m;
+        let n = self.stats.len() / 3;
+        // Without the attitude, one empty row per body keeps the zips aligned.
+        let (qk, lk) = if self.quaternion.is_some() {
+            (4 * m, 3 * m)
+        } else {
+            (0, 0)
+        };
+        let q_rows = split_rows(self.quaternion.as_deref_mut().unwrap_or_default(), qk, n);
+        let ls_rows = split_rows(self.l_space.as_deref_mut().unwrap_or_default(), lk, n);
+        self.omega
+            .par_chunks_mut(3 * m)
+            .zip(self.l_body.par_chunks_mut(3 * m))
+            .zip(self.energy.par_chunks_mut(m))
+            .zip(q_rows.into_par_iter())
+            .zip(ls_rows.into_par_iter())
+            .zip(self.stats.par_chunks_mut(3))
+            .map(|(((((w, lb), e), q), ls), st)| (w, lb, e, q, ls, st))
+    }
+}
+
+/// `n` rows of `k` values each (`n` empty rows if `k` is 0: no attitude).
+fn split_rows(data: &mut [f64], k: usize, n: usize) -> Vec<&mut [f64]> {
+    let mut rows: Vec<&mut [f64]> = Vec::with_capacity(n);
+    if k == 0 {
+        rows.extend((0..n).map(|_| -> &mut [f64] { &mut [] }));
+    } else {
+        rows.extend(data.chunks_mut(k));
+    }
+    rows
+}
+
+/// Writes one body's outputs in its own axes from its principal-axes trajectory.
+fn write_body(traj: &Trajectory, moments: &[f64; 3], frame: Option<&Frame>, rows: Rows<'_>) {
+    let (w_out, lb_out, e_out, q_out, ls_out, s_out) = rows;
+    let inertia = Vector3::from(*moments);
+    let mut previous: Option<Quaternion<f64>> = None;
+    for (j, w) in traj.omega.iter().enumerate() {
+        let l = inertia.component_mul(w);
+        e_out[j] = 0.5 * (w[0] * l[0] + w[1] * l[1] + w[2] * l[2]);
+        let (wb, lb) = match frame {
+            Some(f) => (f.matrix * w, f.matrix * l),
+            None => (*w, l),
+        };
+        w_out[3 * j..3 * j + 3].copy_from_slice(wb.as_slice());
+        lb_out[3 * j..3 * j + 3].copy_from_slice(lb.as_slice());
+        if let (Some(attitude), false) = (traj.attitude.as_ref(), q_out.is_empty()) {
+            let qp = attitude[j];
+            let ls = qp * l;
+            ls_out[3 * j..3 * j + 3].copy_from_slice(ls.as_slice());
+            // R_b = R_p V^T.
+            let mut q = match frame {
+                Some(f) => (qp * f.rotation.inverse()).into_inner(),
+                None => qp.into_inner(),
+            };
+            // One sign per trajectory: continuous in time.
+            if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
+                q = -q;
+            }
+            previous = Some(q);
+            q_out[4 * j..4 * j + 4].copy_from_slice(&[q.i, q.j, q.k, q.w]);
+        }
+    }
+    let st = &traj.stats;
+    s_out.copy_from_slice(&[st.steps, st.rejected_steps, st.rhs_evaluations]);
 }
 
 /// The torque-free motion's invariants: a dict with energy, angular_momentum_norm, regime,
