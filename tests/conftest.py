@@ -68,7 +68,7 @@ def assert_close_normwise(actual, expected, rtol: float, scale: float | None = N
     assert err <= rtol * scale, (
         f"{what}: max error {err:.3e} > bound {rtol * scale:.3e} "
         f"(= {err / scale if scale else float('inf'):.3e} relative, "
-        f"{err / (EPS * scale) if scale else float('inf'):.1f} eps; allowed {rtol:.1e})"
+        f"{err / (EPS * scale) if EPS * scale else float('inf'):.1f} eps; allowed {rtol:.1e})"
     )
 
 

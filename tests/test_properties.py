@@ -46,6 +46,9 @@ def bodies(draw):
     return body, expected, reach
 
 
+SUBNORMAL = float(np.finfo(float).smallest_subnormal)
+
+
 def com_resolution_term(mass, reach):
     """M (eps reach)^2: the inertia change for moving the reference point by the centre of
     mass's own resolution."""
@@ -161,7 +164,12 @@ def _composition_scale(parts, total, k):
     big_r = max(float(np.max(np.abs(p.center_of_mass))) for p in parts)
     big_d = max(float(np.linalg.norm(np.asarray(p.center_of_mass) - com)) for p in parts)
     scale = norm2(total.inertia) + total.mass * big_r * big_d
-    return scale + com_resolution_term(total.mass, big_r) / k, big_r
+    scale += com_resolution_term(total.mass, big_r) / k
+    # Second moments below the normal range (parts 1e-156 apart) are subnormal: there every
+    # rounding is absolute, and a square root of a subnormal keeps only its few bits, so the
+    # error is a number of subnormal spacings (37 seen), not of relative eps. The floor allows
+    # 64 spacings per eps of the bound: still 1e-320 at most, nothing in the normal range.
+    return max(scale, 64 * SUBNORMAL / EPS), big_r
 
 
 @given(bodies(), bodies(), bodies())
