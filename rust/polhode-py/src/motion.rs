@@ -474,6 +474,9 @@ pub fn simulate<'py>(
     let quaternion0 = rows::<4>("quaternion0", &quaternion0, Some(n))?;
     let frame = axes.map(|a| Frame::new(&a)).transpose()?;
     let times: Vec<f64> = times.as_array().to_vec();
+    if times.is_empty() {
+        return Err(bad_shape("times", "(M,) with M >= 1", &[0]));
+    }
     let method = parse_method(method, dt, order, rtol, atol)?;
     let spec = torque.as_ref().map(parse_torque).transpose()?;
     if method.is_none() && spec.is_some() {
@@ -675,13 +678,7 @@ impl Assembled {
     /// Each body's [`Rows`], in order (on the calling thread).
     fn rows(&mut self) -> impl Iterator<Item = Rows<'_>> {
         let (m, n) = (self.m, self.stats.len() / 3);
-        let (qk, lk) = if self.quaternion.is_some() {
-            (4 * m, 3 * m)
-        } else {
-            (0, 0)
-        };
-        let q_rows = split_rows(self.quaternion.as_deref_mut().unwrap_or_default(), qk, n);
-        let ls_rows = split_rows(self.l_space.as_deref_mut().unwrap_or_default(), lk, n);
+        let (q_rows, ls_rows) = attitude_rows(&mut self.quaternion, &mut self.l_space, m, n);
         self.omega
             .chunks_mut(3 * m)
             .zip(self.l_body.chunks_mut(3 * m))
@@ -694,16 +691,8 @@ impl Assembled {
 
     /// [`Assembled::rows`] in parallel (rayon).
     fn par_rows(&mut self) -> impl IndexedParallelIterator<Item = Rows<'_>> {
-        let m = self.m;
-        let n = self.stats.len() / 3;
-        // Without the attitude, one empty row per body keeps the zips aligned.
-        let (qk, lk) = if self.quaternion.is_some() {
-            (4 * m, 3 * m)
-        } else {
-            (0, 0)
-        };
-        let q_rows = split_rows(self.quaternion.as_deref_mut().unwrap_or_default(), qk, n);
-        let ls_rows = split_rows(self.l_space.as_deref_mut().unwrap_or_default(), lk, n);
+        let (m, n) = (self.m, self.stats.len() / 3);
+        let (q_rows, ls_rows) = attitude_rows(&mut self.quaternion, &mut self.l_space, m, n);
         self.omega
             .par_chunks_mut(3 * m)
             .zip(self.l_body.par_chunks_mut(3 * m))
@@ -715,15 +704,22 @@ impl Assembled {
     }
 }
 
-/// `n` rows of `k` values each (`n` empty rows if `k` is 0: no attitude).
-fn split_rows(data: &mut [f64], k: usize, n: usize) -> Vec<&mut [f64]> {
-    let mut rows: Vec<&mut [f64]> = Vec::with_capacity(n);
-    if k == 0 {
-        rows.extend((0..n).map(|_| -> &mut [f64] { &mut [] }));
-    } else {
-        rows.extend(data.chunks_mut(k));
+/// The rows of the quaternion and of L in space, one per body; without the attitude (no
+/// buffers) one empty row per body, which keeps the zips over the bodies aligned.
+#[allow(clippy::type_complexity)]
+fn attitude_rows<'a>(
+    quaternion: &'a mut Option<Vec<f64>>,
+    l_space: &'a mut Option<Vec<f64>>,
+    m: usize,
+    n: usize,
+) -> (Vec<&'a mut [f64]>, Vec<&'a mut [f64]>) {
+    fn rows<'a>(data: &'a mut Option<Vec<f64>>, k: usize, n: usize) -> Vec<&'a mut [f64]> {
+        match data.as_deref_mut() {
+            Some(values) => values.chunks_mut(k).collect(),
+            None => (0..n).map(|_| -> &'a mut [f64] { &mut [] }).collect(),
+        }
     }
-    rows
+    (rows(quaternion, 4 * m, n), rows(l_space, 3 * m, n))
 }
 
 /// Writes one body's outputs in its own axes from its principal-axes trajectory.
