@@ -3,8 +3,9 @@
     python -m benchmarks.bench_throughput [--quick] [--repeats R] [--plot DIR]
 
 N random bodies (1 to 1e6) integrated with each method, with and without orientation, for
-about 2e7 body-steps in all per call (at least 10 steps); the exact method is timed on output
-times instead (evaluations per second). The time is of the whole Python call. See
+about 2e7 rk4 body-steps per call (at least 10 steps each; fewer steps for the costlier methods,
+see polhode.bench.throughput); the exact method is timed on output times instead (evaluations
+per second). The time is of the whole Python call. See
 polhode.bench.throughput.
 """
 

@@ -288,8 +288,9 @@ def main(argv: Sequence[str] | None = None) -> None:
         "## Batch throughput",
         "",
         "`python -m benchmarks.bench_throughput --plot docs/img`. N random bodies on all cores, "
-        "about 2e7 body-steps per call (at least 10 steps each), dt = 0.01 (dop853: rtol 1e-8); "
-        "the exact method on as many output times. Whole Python call.",
+        "about 2e7 rk4 body-steps per call (at least 10 steps each; midpoint a half, the "
+        "splitting a quarter, dop853 an eighth as many), dt = 0.01 (dop853: rtol 1e-8); the "
+        "exact method on an eighth as many output times. Whole Python call.",
         "",
         f"![throughput](img/{Path(png).name})",
         "",
