@@ -38,6 +38,7 @@ __all__ = [
     "drift",
     "eigensolve",
     "machine",
+    "peers",
     "mesh",
     "point_masses",
     "run",
@@ -55,6 +56,19 @@ def machine() -> str:
         f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
         f"numpy {np.__version__}, polhode {ph.__version__}"
     )
+
+
+def peers() -> str:
+    """The versions of the peers that are installed."""
+    import importlib.metadata as metadata
+
+    found = []
+    for name in ("scipy", "mujoco", "trimesh", "matplotlib"):
+        try:
+            found.append(f"{name} {metadata.version(name)}")
+        except metadata.PackageNotFoundError:
+            found.append(f"{name} not installed")
+    return ", ".join(found)
 
 
 def _median(seconds: Sequence[float]) -> float:
@@ -779,7 +793,8 @@ def run(
     matching error, batch throughput, eigensolve, point masses and (with trimesh) meshes.
     ``quick`` keeps it under a minute."""
     repeats = (3 if quick else 5) if repeats is None else repeats
-    print_(f"# polhode bench{' --quick' if quick else ''} ({machine()})\n")
+    print_(f"# polhode bench{' --quick' if quick else ''} ({machine()})")
+    print_(f"# peers: {peers()}\n")
     wp = work_precision("flip", quick=quick, repeats=repeats, budget=1.0 if quick else 3.0)
     print_("## Work-precision, one body, torque-free, errors against the exact solution")
     print_(wp.table())
