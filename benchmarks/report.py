@@ -65,10 +65,10 @@ def _reading_work_precision(result: bench.WorkPrecision) -> list[str]:
                 if missed
                 else f"the {TARGET_SCIPY:.0f}x target met at each"
             )
+            span = f"{low:.0f}x" if f"{low:.0f}" == f"{high:.0f}" else f"{low:.0f}x to {high:.0f}x"
             lines.append(
-                f"  - polhode's dop853 against scipy's DOP853 at matching error: {low:.0f}x to "
-                f"{high:.0f}x faster at {', '.join(f'{lv:.0e}' for lv, _ in reached)}; "
-                f"{verdict}."
+                f"  - polhode's dop853 against scipy's DOP853 at matching error: {span} faster "
+                f"at {', '.join(f'{lv:.0e}' for lv, _ in reached)}; {verdict}."
             )
         unreached = [f"{lv:.0e}" for lv, _, r in dop if r is None]
         if unreached:
