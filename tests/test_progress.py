@@ -140,9 +140,10 @@ if sys.argv[1] == "batch":
 else:
     # 1e9 rk4 steps: about a minute.
     moments, omega0 = [1.0, 2.0, 3.0], [0.01, 1.0, 0.01]
-print("started", flush=True)
 start = time.perf_counter()
 try:
+    # Inside the try: a SIGINT that comes early (a loaded machine) is still caught.
+    print("started", flush=True)
     ph.simulate(moments, omega0, 1e6, method="rk4", dt=1e-3, max_steps=10**12)
 except KeyboardInterrupt:
     print(f"KeyboardInterrupt after {time.perf_counter() - start:.2f} s", flush=True)
