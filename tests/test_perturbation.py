@@ -9,25 +9,13 @@ from scipy.integrate import solve_ivp
 
 import polhode as ph
 from polhode.perturbation import perturbation
+from reference import euler_rhs
 
 MOMENTS = np.array([1.0, 2.0, 3.0])
 
 
-def euler(moments):
-    i1, i2, i3 = moments
-
-    def rhs(_t, w):
-        return [
-            (i2 - i3) / i1 * w[1] * w[2],
-            (i3 - i1) / i2 * w[2] * w[0],
-            (i1 - i2) / i3 * w[0] * w[1],
-        ]
-
-    return rhs
-
-
 def reference(moments, omega0, t):
-    sol = solve_ivp(euler(moments), (0.0, t), omega0, method="DOP853", rtol=1e-13, atol=1e-16)
+    sol = solve_ivp(euler_rhs(moments), (0.0, t), omega0, method="DOP853", rtol=1e-13, atol=1e-16)
     return sol.y[:, -1]
 
 

@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation  # noqa: E402
 
 import polhode as ph  # noqa: E402
 from polhode import plot  # noqa: E402
+from reference import euler_omega  # noqa: E402
 
 MOMENTS = np.array([1.0, 2.0, 3.0])
 OMEGA0 = np.array([0.1, 1.0, 0.2])  # near the intermediate axis: a flip
@@ -169,25 +170,6 @@ def test_import_polhode_does_not_import_matplotlib():
     assert out.stdout.strip() == "False"
 
 
-def euler_reference(moments, omega0, times):
-    """omega at ``times`` by scipy's DOP853 at rtol 1e-13 (independent of polhode)."""
-    from scipy.integrate import solve_ivp
-
-    i1, i2, i3 = moments
-
-    def rhs(_t, w):
-        return [
-            (i2 - i3) / i1 * w[1] * w[2],
-            (i3 - i1) / i2 * w[2] * w[0],
-            (i1 - i2) / i3 * w[0] * w[1],
-        ]
-
-    sol = solve_ivp(
-        rhs, (0.0, times[-1]), omega0, t_eval=times, method="DOP853", rtol=1e-13, atol=1e-16
-    )
-    return sol.y.T
-
-
 def test_perturbation_error_slopes_and_values(tmp_path):
     from polhode.perturbation import perturbation
 
@@ -216,7 +198,7 @@ def test_perturbation_error_slopes_and_values(tmp_path):
             omega0 = eps[k] * np.array(plot.PERTURBATION_DIRECTION)
             omega0[axis] = 1.0
             approx = perturbation(MOMENTS, omega0, times, axis=axis, order=n)
-            expected = np.max(np.abs(approx - euler_reference(MOMENTS, omega0, times)))
+            expected = np.max(np.abs(approx - euler_omega(MOMENTS, omega0, times)))
             assert error[k] == pytest.approx(expected, rel=1e-4), (n, k)
 
 
