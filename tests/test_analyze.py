@@ -22,6 +22,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
+from reference import euler_rhs
 from reference_motion import motion_constants
 
 EPS = float(np.finfo(float).eps)
@@ -54,32 +55,6 @@ def exact_period(moments, omega):
     # K(m) near m = 1 costs log10(1 / (1 - m)) digits (up to 25 here): 80 digits
     with mp.workdps(80):
         return 4 * mp.ellipk(_mpf(k2)) / mp.sqrt(_mpf(lam2))
-
-
-def qmul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return np.array(
-        [
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    )
-
-
-def euler_rhs(moments):
-    i1, i2, i3 = moments
-
-    def f(t, w):
-        return [
-            (i2 - i3) / i1 * w[1] * w[2],
-            (i3 - i1) / i2 * w[2] * w[0],
-            (i1 - i2) / i3 * w[0] * w[1],
-        ]
-
-    return f
 
 
 # ---------------------------------------------------------------------------------------------
