@@ -126,7 +126,7 @@ def test_drift_shows_what_each_method_conserves():
 
 def test_throughput_counts_the_work():
     result = bench.throughput(sizes=(1, 50), methods=("rk4", "exact"), work=2000, repeats=1)
-    rows = {(m, a, n): work for m, a, n, work, _, _ in result.rows}
+    rows = {(m, a, n): work for m, a, n, work, _ in result.rows}
     assert rows[("rk4", True, 50)] == 50 * 40  # 2000 / 50 steps each
     assert rows[("exact", False, 1)] == 2000 // 8  # output times (an evaluation costs ~8 steps)
     assert all(r > 0 for r in result.rate("rk4", True).values())

@@ -572,12 +572,12 @@ def drift(
 class Throughput:
     """Body-steps per second (integrators) or evaluations per second (exact) against N."""
 
-    rows: list[tuple[str, bool, int, int, list[float], float]]  # method, attitude, N, work, s
+    rows: list[tuple[str, bool, int, int, list[float]]]  # method, attitude, N, work, seconds
 
     def rate(self, method: str, attitude: bool) -> dict[int, float]:
         return {
             n: work / _median(secs)
-            for m, a, n, work, secs, _ in self.rows
+            for m, a, n, work, secs in self.rows
             if m == method and a == attitude
         }
 
@@ -586,7 +586,7 @@ class Throughput:
             f"{'method':14s} {'attitude':>8s} {'N':>8s} {'median ms':>10s} {'spread ms':>17s} "
             f"{'per second':>11s}"
         ]
-        for method, attitude, n, work, secs, _ in self.rows:
+        for method, attitude, n, work, secs in self.rows:
             unit = "evals" if method == "exact" else "body-steps"
             lines.append(
                 f"{method:14s} {str(attitude):>8s} {n:8d} {_median(secs) * 1e3:10.2f} "
@@ -615,7 +615,7 @@ def throughput(
     second, with and without orientation; the exact method is timed on an eighth as many
     output times (evaluations per second)."""
     rng = np.random.default_rng(0)
-    rows: list[tuple[str, bool, int, int, list[float], float]] = []
+    rows: list[tuple[str, bool, int, int, list[float]]] = []
     for n in sizes:
         moments, omega0 = _random_bodies(n, rng)
         steps = int(max(10, min(100_000, work // n)))
@@ -644,7 +644,7 @@ def throughput(
                     else:
                         total = int(np.sum(traj.stats["steps"]))
                     del traj
-                rows.append((method, attitude, n, total, seconds, dt))
+                rows.append((method, attitude, n, total, seconds))
     return Throughput(rows)
 
 

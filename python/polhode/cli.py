@@ -53,9 +53,8 @@ def _demo(args: argparse.Namespace) -> int:
             )
         print()
     _flip_demo()
-    out = getattr(args, "out", "polhode-demo")
-    if not getattr(args, "no_plots", False):
-        _demo_plots(out)
+    if not args.no_plots:
+        _demo_plots(args.out)
     return 0
 
 
