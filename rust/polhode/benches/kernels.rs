@@ -1,7 +1,7 @@
 //! Criterion benchmarks of the kernels, without Python in the way:
 //! `cargo bench -p polhode --bench kernels`.
 //!
-//! One step of each integrator (with and without attitude), one exact evaluation and one
+//! One step of each integrator (with and without orientation), one exact evaluation and one
 //! construction of the exact solution, one eigensolve (single and per tensor in a batch), and
 //! the point-mass assembly per point.
 
@@ -24,7 +24,7 @@ fn steps(c: &mut Criterion) {
     group.bench_function("rk4 omega", |b| {
         b.iter(|| rk4_step_omega(&body, black_box(&state.omega), h))
     });
-    group.bench_function("rk4 attitude", |b| {
+    group.bench_function("rk4 orientation", |b| {
         b.iter(|| rk4_step(&body, black_box(&state), h))
     });
     for (name, order) in [
@@ -35,14 +35,14 @@ fn steps(c: &mut Criterion) {
         group.bench_function(format!("{name} omega"), |b| {
             b.iter(|| splitting_step_omega(&body, black_box(&state.omega), h, order))
         });
-        group.bench_function(format!("{name} attitude"), |b| {
+        group.bench_function(format!("{name} orientation"), |b| {
             b.iter(|| splitting_step(&body, black_box(&state), h, order))
         });
     }
-    group.bench_function("midpoint attitude", |b| {
+    group.bench_function("midpoint orientation", |b| {
         b.iter(|| midpoint_step(&body, black_box(&state), h).unwrap())
     });
-    group.bench_function("dop853 attitude (one fixed step)", |b| {
+    group.bench_function("dop853 orientation (one fixed step)", |b| {
         b.iter(|| dop853_step(&body, black_box(&state), h))
     });
     group.finish();

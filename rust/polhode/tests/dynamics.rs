@@ -155,25 +155,25 @@ fn krogh_body_matches_jacobi_elliptic_functions() {
     // (method, largest error relative to |w| over t in [0, 20]) at dt = 1e-2.
     let bounds = [3e-5, 2e-8, 3e-12, 6e-5, 2e-9];
     for ((name, method), bound) in fixed_methods(1e-2).into_iter().zip(bounds) {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let sol = run(method, moments, &krogh_state0(), &times, &options);
-            assert_eq!(sol.attitude.is_some(), with_attitude);
+            assert_eq!(sol.orientation.is_some(), with_orientation);
             for (k, t) in times.iter().enumerate() {
                 let err = (sol.omega[k] - krogh_exact(k)).norm() / scale;
                 assert!(
                     err < bound,
-                    "{name} attitude={with_attitude} t={t}: {err:e}"
+                    "{name} orientation={with_orientation} t={t}: {err:e}"
                 );
             }
         }
     }
-    for with_attitude in [false, true] {
+    for with_orientation in [false, true] {
         let options = Options {
-            with_attitude,
+            with_orientation,
             ..Options::default()
         };
         let sol = run(
@@ -206,9 +206,9 @@ fn orders_of_convergence_on_krogh_body() {
         (SplittingOrder::Six, 6.0, 0.1),
     ];
     for (order, p, dt) in cases {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let err = |dt: f64| {
@@ -229,9 +229,9 @@ fn orders_of_convergence_on_krogh_body() {
         }
     }
     for (name, method, p, dt) in [("midpoint", 0, 2.0, 0.05), ("rk4", 1, 4.0, 0.05)] {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let err = |dt: f64| {
@@ -260,29 +260,35 @@ fn orders_of_convergence_on_krogh_body() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The free symmetric top (I1 = I2) in closed form, attitude included:
+// The free symmetric top (I1 = I2) in closed form, orientation included:
 // m3 is constant and R(t) = exp(t |L|/I1 [l]) R0 exp(t (1/I3 - 1/I1) m3 [e3]), l = L/|L| in
 // space (Landau-Lifshitz par. 33). Check: R^T R' = [(m/I1) + (1/I3 - 1/I1) m3 e3] = [w].
 // ---------------------------------------------------------------------------------------------
 
 fn symmetric_top_exact(moments: &Vector3<f64>, s0: &State, t: f64) -> State {
     let m = moments.component_mul(&s0.omega);
-    let l = s0.attitude * m;
+    let l = s0.orientation * m;
     let spin = (1.0 / moments[2] - 1.0 / moments[0]) * m[2];
     let space = UnitQuaternion::from_scaled_axis(l * (t / moments[0]));
     let body = UnitQuaternion::from_scaled_axis(Vector3::z() * (spin * t));
-    let attitude = space * s0.attitude * body;
-    State::new(moments.component_div(&(attitude.inverse() * l)), attitude)
+    let orientation = space * s0.orientation * body;
+    State::new(
+        moments.component_div(&(orientation.inverse() * l)),
+        orientation,
+    )
 }
 
 fn symmetric_top() -> (Vector3<f64>, State) {
     let moments = Vector3::new(1.0, 1.0, 0.4);
-    let attitude = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7);
-    (moments, State::new(Vector3::new(0.8, -0.3, 2.0), attitude))
+    let orientation = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7);
+    (
+        moments,
+        State::new(Vector3::new(0.8, -0.3, 2.0), orientation),
+    )
 }
 
 #[test]
-fn symmetric_top_attitude_matches_closed_form_and_converges_at_the_right_order() {
+fn symmetric_top_orientation_matches_closed_form_and_converges_at_the_right_order() {
     let (moments, s0) = symmetric_top();
     let t_end = 6.0;
     let exact = symmetric_top_exact(&moments, &s0, t_end);
@@ -298,18 +304,18 @@ fn symmetric_top_attitude_matches_closed_form_and_converges_at_the_right_order()
                 other => other,
             };
             let sol = run(m, moments, &s0, &[t_end], &Options::default());
-            sol.attitude.unwrap()[0].angle_to(&exact.attitude)
+            sol.orientation.unwrap()[0].angle_to(&exact.orientation)
         };
         if k < orders.len() {
             let dt = if k == 2 { 0.1 } else { 0.02 };
             let q = observed_order(err, dt);
             assert!(
                 (q - orders[k]).abs() < 0.15,
-                "{name}: observed attitude order {q}"
+                "{name}: observed orientation order {q}"
             );
         } else {
             let e = err(0.0);
-            assert!(e < 1e-11, "{name}: attitude error {e:e}");
+            assert!(e < 1e-11, "{name}: orientation error {e:e}");
         }
     }
 }
@@ -325,7 +331,7 @@ fn drift(
     n: usize,
     mut step: impl FnMut(&State) -> State,
 ) -> (f64, f64, f64, f64, f64) {
-    let l0 = s0.attitude * moments.component_mul(&s0.omega);
+    let l0 = s0.orientation * moments.component_mul(&s0.omega);
     let t0 = 0.5 * s0.omega.dot(&moments.component_mul(&s0.omega));
     let mut s = s0;
     let (mut dl, mut dls, mut dt_first, mut dt_last) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
@@ -335,7 +341,7 @@ fn drift(
         if k % 100 == 99 || k + 1 == n {
             let m = moments.component_mul(&s.omega);
             dl = dl.max(rel(m.norm(), l0.norm()));
-            dls = dls.max((s.attitude * m - l0).norm() / l0.norm());
+            dls = dls.max((s.orientation * m - l0).norm() / l0.norm());
             let e = rel(0.5 * s.omega.dot(&m), t0);
             dt_max = dt_max.max(e);
             if k < n / 2 {
@@ -377,7 +383,7 @@ fn splitting_conserves_angular_momentum_over_long_runs() {
                 &Options::default(),
             );
             assert_eq!(sol.stats.steps, 1000 * per_output as u64);
-            let att = sol.attitude.unwrap();
+            let att = sol.orientation.unwrap();
             let (mut dl, mut dls, mut de_first, mut de_last) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
             for (k, (w, q)) in sol.omega.iter().zip(&att).enumerate() {
                 let s = State::new(*w, *q);
@@ -431,7 +437,7 @@ fn midpoint_conserves_energy_and_angular_momentum_over_long_runs() {
         &s0,
         &times,
         &Options {
-            with_attitude: false,
+            with_orientation: false,
             ..Options::default()
         },
     );
@@ -467,7 +473,7 @@ fn thin_rod_does_not_blow_up() {
     ];
     for ((name, method), (bound_t, bound_l)) in methods.into_iter().zip(bounds) {
         let sol = run(method, moments, &s0, &times, &Options::default());
-        let s = State::new(sol.omega[0], sol.attitude.unwrap()[0]);
+        let s = State::new(sol.omega[0], sol.orientation.unwrap()[0]);
         let l = s.angular_momentum_space(&body);
         let (e_t, e_l) = (
             rel(body.kinetic_energy(&s.omega), t0),
@@ -538,9 +544,9 @@ fn dop853_near_the_separatrix_matches_high_precision_reference() {
     let moments = Vector3::new(3.0, 5.0, 9.0);
     let s0 = State::from_omega(Vector3::new(0.0, 2.0, 0.01).component_div(&moments));
     let times: Vec<f64> = SEPARATRIX_REFERENCE.iter().map(|r| r.0).collect();
-    for with_attitude in [false, true] {
+    for with_orientation in [false, true] {
         let options = Options {
-            with_attitude,
+            with_orientation,
             ..Options::default()
         };
         let sol = run(
@@ -554,7 +560,7 @@ fn dop853_near_the_separatrix_matches_high_precision_reference() {
             let err = (sol.omega[k] - Vector3::from(*w)).norm();
             assert!(
                 err < 1e-10,
-                "attitude={with_attitude} t={t}: {err:e} ({:?})",
+                "orientation={with_orientation} t={t}: {err:e} ({:?})",
                 sol.stats
             );
         }
@@ -570,13 +576,13 @@ fn dop853_near_the_separatrix_matches_high_precision_reference() {
 fn heavy_symmetric_top_conserves_its_invariants() {
     let moments = Vector3::new(1.0, 1.0, 0.5); // about the pivot
     let gravity = Vector3::new(0.0, 0.0, -9.81);
-    let top = PivotGravity::new(Vector3::new(0.0, 0.0, 0.1), 1.0, gravity).unwrap();
+    let top = Gravity::new(Vector3::new(0.0, 0.0, 0.1), 1.0, gravity).unwrap();
     let s0 = State::new(
         Vector3::new(0.5, 0.0, 20.0),
         UnitQuaternion::from_euler_angles(0.5, 0.0, 0.0),
     );
     let body = Moments::new(moments).unwrap();
-    let energy = |s: &State| body.kinetic_energy(&s.omega) + top.potential_energy(&s.attitude);
+    let energy = |s: &State| body.kinetic_energy(&s.omega) + top.potential_energy(&s.orientation);
     let lz = |s: &State| s.angular_momentum_space(&body).dot(&gravity.normalize());
     let l3 = |s: &State| moments[2] * s.omega[2];
     let (e0, lz0, l30) = (energy(&s0), lz(&s0), l3(&s0));
@@ -601,7 +607,7 @@ fn heavy_symmetric_top_conserves_its_invariants() {
     ];
     for ((name, method), b) in methods.into_iter().zip(bounds) {
         let sol = run(method, moments, &s0, &times, &options);
-        let att = sol.attitude.unwrap();
+        let att = sol.orientation.unwrap();
         let mut worst = [0.0f64; 3];
         for (w, q) in sol.omega.iter().zip(&att) {
             let s = State::new(*w, *q);
@@ -669,18 +675,18 @@ const TORQUED_REFERENCE: [(f64, [f64; 3]); 5] = [
 fn windowed_torque_matches_high_precision_reference() {
     let moments = Vector3::new(0.5, 2.0, 3.0);
     let s0 = State::from_omega(Vector3::new(1.0, 0.0, 0.9));
-    let pulse = FnTorque::with_dependencies(
+    let pulse = Function::with_dependencies(
         |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
             Ok(Vector3::new(0.0, 0.0, 0.25 * t.sin().powi(2)))
         },
         false,
         false,
     );
-    let torque = Windowed::new(pulse, 3.0 * PI, 4.0 * PI).unwrap();
+    let torque = Window::new(pulse, 3.0 * PI, 4.0 * PI).unwrap();
     let times: Vec<f64> = TORQUED_REFERENCE.iter().map(|r| r.0).collect();
     let mut methods = fixed_methods(1e-3);
     methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-13))));
-    // Largest errors in w and (against a tight dop853) in the attitude, in radians.
+    // Largest errors in w and (against a tight dop853) in the orientation, in radians.
     let bounds = [
         (3e-6, 3e-6),
         (5e-12, 5e-12),
@@ -700,13 +706,13 @@ fn windowed_torque_matches_high_precision_reference() {
         &times,
         &options,
     )
-    .attitude
+    .orientation
     .unwrap();
     for ((name, method), (bound_w, bound_q)) in methods.into_iter().zip(bounds) {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
                 torque: Some(&torque),
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let sol = run(method, moments, &s0, &times, &options);
@@ -714,11 +720,11 @@ fn windowed_torque_matches_high_precision_reference() {
                 let err = (sol.omega[k] - Vector3::from(*w)).norm();
                 assert!(
                     err < bound_w,
-                    "{name} attitude={with_attitude} t={t}: {err:e}"
+                    "{name} orientation={with_orientation} t={t}: {err:e}"
                 );
-                if let (Some(att), true) = (&sol.attitude, bound_q > 0.0) {
+                if let (Some(att), true) = (&sol.orientation, bound_q > 0.0) {
                     let e = att[k].angle_to(&tight[k]);
-                    assert!(e < bound_q, "{name} t={t}: attitude {e:e}");
+                    assert!(e < bound_q, "{name} t={t}: orientation {e:e}");
                 }
             }
         }
@@ -733,8 +739,8 @@ fn gravity_gradient_torque_has_its_closed_form() {
     let gg = GravityGradient::new(moments, n, Vector3::z(), Vector3::x()).unwrap();
     for a in [0.0, 0.3, 1.0, 2.5] {
         // x_space = R x_body; radial (space x at t = 0) in body = R^T x = (cos a, 0, sin a).
-        let attitude = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a);
-        let tau = gg.torque_body(0.0, &Vector3::zeros(), &attitude);
+        let orientation = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a);
+        let tau = gg.torque_body(0.0, &Vector3::zeros(), &orientation);
         let expected = Vector3::new(0.0, 3.0 * n * n * (2.0 - 5.0) * a.sin() * a.cos(), 0.0);
         assert!(
             (tau - expected).norm() <= 1e-15 * n * n * 10.0,
@@ -776,7 +782,7 @@ fn earth_pointing_satellite_is_a_relative_equilibrium() {
         ("midpoint", Method::Midpoint { dt }, 1e-4),
     ] {
         let sol = run(method, moments, &s0, &times, &options);
-        let att = sol.attitude.unwrap();
+        let att = sol.orientation.unwrap();
         for k in 0..times.len() {
             let x_body_in_space = att[k] * Vector3::x();
             let e = (x_body_in_space - gg.radial_space(times[k])).norm();
@@ -806,7 +812,7 @@ fn midpoint_turns_by_the_cayley_angle() {
     );
     let angle = steps * 4.0 * (dt * w / 4.0).atan();
     let expected = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), angle);
-    let e = sol.attitude.unwrap()[0].angle_to(&expected);
+    let e = sol.orientation.unwrap()[0].angle_to(&expected);
     assert!(e < 1e-13, "{e:e}");
     assert_eq!(sol.omega[0], s0.omega);
 }
@@ -816,15 +822,15 @@ fn constant_and_summed_torques() {
     // A body-axis torque on a sphere: w(t) = w0 + tau t / I.
     let moments = Vector3::new(2.0, 2.0, 2.0);
     let tau = Vector3::new(0.2, -0.4, 0.6);
-    let half = BodyConstantTorque::new(tau * 0.5).unwrap();
-    let sum = TorqueSum::new()
+    let half = BodyFixed::new(tau * 0.5).unwrap();
+    let sum = Sum::new()
         .with(half)
-        .with(BodyConstantTorque::new(tau * 0.5).unwrap());
-    assert!(!sum.depends_on_attitude() && !sum.depends_on_omega());
+        .with(BodyFixed::new(tau * 0.5).unwrap());
+    assert!(!sum.depends_on_orientation() && !sum.depends_on_omega());
     let s0 = State::from_omega(Vector3::new(1.0, 2.0, 3.0));
     let options = Options {
         torque: Some(&sum),
-        with_attitude: false,
+        with_orientation: false,
         ..Options::default()
     };
     // The axis rotations of the splitting do not commute: for a sphere its free flow is exact
@@ -843,7 +849,7 @@ fn constant_and_summed_torques() {
         );
     }
     // A space-fixed torque on a sphere at rest: L_space(t) = tau_space t.
-    let space = SpaceConstantTorque::new(Vector3::new(0.0, 0.0, 0.5)).unwrap();
+    let space = SpaceFixed::new(Vector3::new(0.0, 0.0, 0.5)).unwrap();
     let s0 = State::new(
         Vector3::zeros(),
         UnitQuaternion::from_euler_angles(0.4, 0.1, -0.3),
@@ -857,7 +863,7 @@ fn constant_and_summed_torques() {
         .chain([("dop853", Method::Dop853(Dop853Options::default()))]);
     for ((name, method), bound) in methods.zip(bounds) {
         let sol = run(method, moments, &s0, &[4.0], &options);
-        let l = sol.attitude.unwrap()[0] * moments.component_mul(&sol.omega[0]);
+        let l = sol.orientation.unwrap()[0] * moments.component_mul(&sol.omega[0]);
         assert!(
             (l - Vector3::new(0.0, 0.0, 2.0)).norm() < bound * 2.0,
             "{name}: {l:?}"
@@ -867,7 +873,7 @@ fn constant_and_summed_torques() {
 
 #[test]
 fn a_failing_torque_stops_the_integration_with_its_error() {
-    let failing = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+    let failing = Function::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
         if t > 1.0 {
             Err(Error::InvalidArgument {
                 name: "torque".into(),
@@ -877,7 +883,7 @@ fn a_failing_torque_stops_the_integration_with_its_error() {
             Ok(Vector3::new(0.0, 0.0, 0.1))
         }
     });
-    let nan = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+    let nan = Function::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
         Ok(Vector3::new(0.0, if t > 1.0 { f64::NAN } else { 0.0 }, 0.0))
     });
     let moments = Vector3::new(1.0, 2.0, 3.0);
@@ -885,10 +891,10 @@ fn a_failing_torque_stops_the_integration_with_its_error() {
     let mut methods = fixed_methods(0.01);
     methods.push(("dop853", Method::Dop853(Dop853Options::default())));
     for (name, method) in methods {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
                 torque: Some(&failing),
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let err = integrate(&method, &moments, &s0, &[0.5, 2.0], &options).unwrap_err();
@@ -899,7 +905,7 @@ fn a_failing_torque_stops_the_integration_with_its_error() {
             );
             let options = Options {
                 torque: Some(&nan),
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let err = integrate(&method, &moments, &s0, &[0.5, 2.0], &options).unwrap_err();
@@ -948,22 +954,26 @@ fn invalid_arguments_are_rejected_with_named_errors() {
             );
         }
     }
+    // The output times are named `t`.
+    let decreasing = integrate(&rk4, &moments, &s0, &[1.0, 0.5], &o).unwrap_err();
     assert_eq!(
-        name_of(integrate(&rk4, &moments, &s0, &[1.0, 0.5], &o).unwrap_err()),
-        "times"
+        decreasing.to_string(),
+        "Invalid `t`: expected non-decreasing t, got t[0] = 1 > t[1] = 0.5."
     );
-    assert_eq!(
-        name_of(integrate(&rk4, &moments, &s0, &[1.0, f64::NAN], &o).unwrap_err()),
-        "times[1]"
-    );
+    assert_eq!(name_of(decreasing), "t");
+    let nan = integrate(&rk4, &moments, &s0, &[1.0, f64::NAN], &o).unwrap_err();
+    assert_eq!(nan.to_string(), "Expected `t[1]` to be finite, got NaN.");
+    assert_eq!(name_of(nan), "t[1]");
     let late = Options {
         t0: 2.0,
         ..Options::default()
     };
+    let early = integrate(&rk4, &moments, &s0, &[1.0], &late).unwrap_err();
     assert_eq!(
-        name_of(integrate(&rk4, &moments, &s0, &[1.0], &late).unwrap_err()),
-        "times"
+        early.to_string(),
+        "Invalid `t`: expected t[0] >= t0 = 2, got 1."
     );
+    assert_eq!(name_of(early), "t");
     let dop = |rtol, atol| {
         Method::Dop853(Dop853Options {
             rtol,
@@ -993,12 +1003,12 @@ fn invalid_arguments_are_rejected_with_named_errors() {
         Err(Error::NoConvergence { .. })
     ));
     assert!(Moments::new(Vector3::new(1.0, f64::INFINITY, 1.0)).is_err());
-    // The angular-velocity-only steps refuse an attitude-dependent torque.
+    // The angular-velocity-only steps refuse an orientation-dependent torque.
     let body = Moments::new(moments).unwrap();
-    let gravity = PivotGravity::new(Vector3::z(), 1.0, -Vector3::z()).unwrap();
+    let gravity = Gravity::new(Vector3::z(), 1.0, -Vector3::z()).unwrap();
     assert!(rk4_step_omega_torqued(&body, &gravity, 0.0, &s0.omega, 0.1).is_err());
     assert!(GravityGradient::new(moments, 1.0, Vector3::z(), Vector3::z() * 2.0).is_err());
-    assert!(Windowed::new(gravity, 2.0, 1.0).is_err());
+    assert!(Window::new(gravity, 2.0, 1.0).is_err());
 }
 
 #[test]
@@ -1020,16 +1030,16 @@ fn output_times_are_hit_exactly_and_steps_never_exceed_dt() {
     );
     assert_eq!(sol.stats.steps, 4);
     assert_eq!(sol.omega[0], s0.omega);
-    assert_eq!(sol.attitude.as_ref().unwrap()[0], s0.attitude);
+    assert_eq!(sol.orientation.as_ref().unwrap()[0], s0.orientation);
     assert_eq!(sol.omega[1], sol.omega[2]);
     let mut s = s0;
     for _ in 0..3 {
         s = rk4_step(&body, &s, 0.25 / 3.0);
     }
     assert!((sol.omega[1] - s.omega).norm() < 1e-15);
-    assert!(sol.attitude.as_ref().unwrap()[1].angle_to(&s.attitude) < 1e-15);
+    assert!(sol.orientation.as_ref().unwrap()[1].angle_to(&s.orientation) < 1e-15);
     // A segment of round-off length between a torque switch and an output time.
-    let kick = Windowed::new(BodyConstantTorque::new(Vector3::x()).unwrap(), 1.0, 2.0).unwrap();
+    let kick = Window::new(BodyFixed::new(Vector3::x()).unwrap(), 1.0, 2.0).unwrap();
     let options = Options {
         torque: Some(&kick),
         ..Options::default()
@@ -1058,7 +1068,7 @@ fn output_times_are_hit_exactly_and_steps_never_exceed_dt() {
 }
 
 #[test]
-fn omega_only_and_with_attitude_agree() {
+fn omega_only_and_with_orientation_agree() {
     let moments = Vector3::new(1.0, 2.0, 3.0);
     let s0 = State::new(
         Vector3::new(0.3, 1.2, 0.1),
@@ -1074,12 +1084,12 @@ fn omega_only_and_with_attitude_agree() {
             &s0,
             &times,
             &Options {
-                with_attitude: false,
+                with_orientation: false,
                 ..Options::default()
             },
         );
         let b = run(method, moments, &s0, &times, &Options::default());
-        assert!(a.attitude.is_none());
+        assert!(a.orientation.is_none());
         // DOP853 controls the error of the quaternion too, so its steps differ.
         let bound = if name == "dop853" { 1e-10 } else { 1e-13 };
         for k in 0..2 {
@@ -1096,7 +1106,7 @@ fn results_are_invariant_under_scaling_of_moments_and_angular_velocity() {
     let base = Vector3::from(KROGH_MOMENTS);
     let s0 = krogh_state0();
     for (a, b) in [(1e12, 1e-12), (1e-12, 1e12), (1e-12, 1e-12), (1e12, 1e12)] {
-        let scaled = State::new(s0.omega * b, s0.attitude);
+        let scaled = State::new(s0.omega * b, s0.orientation);
         for (name, method) in fixed_methods(0.01)
             .into_iter()
             .chain([("dop853", Method::Dop853(Dop853Options::with_rtol(1e-10)))])
@@ -1117,8 +1127,8 @@ fn results_are_invariant_under_scaling_of_moments_and_angular_velocity() {
             );
             let e = (sol.omega[0] / b - ref_sol.omega[0]).norm() / s0.omega.norm();
             assert!(e < 1e-9, "{name} a={a:e} b={b:e}: {e:e}");
-            let eq = sol.attitude.unwrap()[0].angle_to(&ref_sol.attitude.unwrap()[0]);
-            assert!(eq < 1e-9, "{name} a={a:e} b={b:e}: attitude {eq:e}");
+            let eq = sol.orientation.unwrap()[0].angle_to(&ref_sol.orientation.unwrap()[0]);
+            assert!(eq < 1e-9, "{name} a={a:e} b={b:e}: orientation {eq:e}");
         }
     }
 }
@@ -1144,7 +1154,7 @@ fn batch_results_are_bitwise_identical_to_single_runs_whatever_the_threads() {
         })
         .collect();
     let times = [0.5, 1.0];
-    let torque = PivotGravity::new(
+    let torque = Gravity::new(
         Vector3::new(0.0, 0.0, 0.1),
         1.0,
         Vector3::new(0.0, 0.0, -9.81),
@@ -1214,9 +1224,9 @@ fn step_timings() {
         Method::Dop853(Dop853Options::with_rtol(1e-10)),
     ));
     for (name, method) in methods {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             // The best of 7 runs, against the noise of a shared machine.
@@ -1229,7 +1239,7 @@ fn step_timings() {
             }
             let sol = sol.unwrap();
             println!(
-                "{name:>18} attitude={with_attitude:<5}: {ns:7.1} ns/step ({:?})",
+                "{name:>18} orientation={with_orientation:<5}: {ns:7.1} ns/step ({:?})",
                 sol.stats
             );
         }
@@ -1243,7 +1253,7 @@ fn step_timings() {
 fn omega_dependent_damping_matches_the_reparametrised_free_motion() {
     let moments = Vector3::from(KROGH_MOMENTS);
     let k = 0.1;
-    let damping = FnTorque::with_dependencies(
+    let damping = Function::with_dependencies(
         move |_: f64, w: &Vector3<f64>, _: &UnitQuaternion<f64>| Ok(-k * moments.component_mul(w)),
         false,
         true,
@@ -1255,21 +1265,24 @@ fn omega_dependent_damping_matches_the_reparametrised_free_motion() {
     methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-12))));
     let bounds = [1e-5, 1e-9, 1e-13, 1e-5, 1e-10, 1e-12];
     for ((name, method), bound) in methods.into_iter().zip(bounds) {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
                 torque: Some(&damping),
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             let sol = run(method, moments, &krogh_state0(), &[t], &options);
             let err = (sol.omega[0] - exact).norm() / scale;
-            assert!(err < bound, "{name} attitude={with_attitude}: {err:e}");
+            assert!(
+                err < bound,
+                "{name} orientation={with_orientation}: {err:e}"
+            );
         }
     }
     // The implicit kicks keep the splitting symmetric: orders 2 and 4 with this torque too.
     let options = Options {
         torque: Some(&damping),
-        with_attitude: false,
+        with_orientation: false,
         ..Options::default()
     };
     for (order, p) in [(SplittingOrder::Two, 2.0), (SplittingOrder::Four, 4.0)] {
@@ -1303,7 +1316,7 @@ fn omega_dependent_damping_matches_the_reparametrised_free_motion() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Torques that switch on and off: I = (0.5, 2, 3), w0 = (1, 0, 0.9), identity attitude, a torque
+// Torques that switch on and off: I = (0.5, 2, 3), w0 = (1, 0, 0.9), identity orientation, a torque
 // about body axis 3 active on [3 pi, 4 pi): the constant 0.25 (a jump) and 0.25 sin^2 t (C^1).
 // Reference: mpmath.odefun at 30 digits, on (w, q), q = (x, y, z, w), q' = q (x) (0, w) / 2,
 // restarted at the window ends:
@@ -1411,13 +1424,13 @@ const SIN2_REFERENCE: [[f64; 7]; 5] = [
     ],
 ];
 
-/// Largest error in `w` (relative to |w0|) and in the attitude (radians) over the outputs.
+/// Largest error in `w` (relative to |w0|) and in the orientation (radians) over the outputs.
 fn switched_error(sol: &Trajectory, reference: &[[f64; 7]; 5]) -> f64 {
     let scale = Vector3::new(1.0, 0.0, 0.9).norm();
     let mut err = 0.0f64;
     for (k, r) in reference.iter().enumerate() {
         err = err.max((sol.omega[k] - Vector3::new(r[0], r[1], r[2])).norm() / scale);
-        if let Some(att) = &sol.attitude {
+        if let Some(att) = &sol.orientation {
             let q =
                 UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(r[6], r[3], r[4], r[5]));
             err = err.max(att[k].angle_to(&q));
@@ -1428,19 +1441,19 @@ fn switched_error(sol: &Trajectory, reference: &[[f64; 7]; 5]) -> f64 {
 
 type BoxedTorque = Box<dyn Torque + Send>;
 
-/// The constant torque and the sin^2 torque as `Windowed` torques, and the constant torque as a
+/// The constant torque and the sin^2 torque as `Window` torques, and the constant torque as a
 /// closure that switches itself, with the switches declared.
 fn switched_torques() -> Vec<(&'static str, BoxedTorque, &'static [[f64; 7]; 5])> {
     let (start, end) = (3.0 * PI, 4.0 * PI);
-    let constant = BodyConstantTorque::new(Vector3::new(0.0, 0.0, 0.25)).unwrap();
-    let sin2 = FnTorque::with_dependencies(
+    let constant = BodyFixed::new(Vector3::new(0.0, 0.0, 0.25)).unwrap();
+    let sin2 = Function::with_dependencies(
         |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
             Ok(Vector3::new(0.0, 0.0, 0.25 * t.sin().powi(2)))
         },
         false,
         false,
     );
-    let closure = FnTorque::with_dependencies(
+    let closure = Function::with_dependencies(
         move |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
             let on = start <= t && t < end;
             Ok(Vector3::new(0.0, 0.0, if on { 0.25 } else { 0.0 }))
@@ -1452,12 +1465,12 @@ fn switched_torques() -> Vec<(&'static str, BoxedTorque, &'static [[f64; 7]; 5])
     vec![
         (
             "windowed constant",
-            Box::new(Windowed::new(constant, start, end).unwrap()),
+            Box::new(Window::new(constant, start, end).unwrap()),
             &JUMP_REFERENCE,
         ),
         (
             "windowed sin^2",
-            Box::new(Windowed::new(sin2, start, end).unwrap()),
+            Box::new(Window::new(sin2, start, end).unwrap()),
             &SIN2_REFERENCE,
         ),
         ("switching closure", Box::new(closure), &JUMP_REFERENCE),
@@ -1482,10 +1495,10 @@ fn switched_torques_keep_the_order_of_every_method() {
         ("rk4", 4, 0.02),
     ];
     for (label, torque, reference) in switched_torques() {
-        for with_attitude in [false, true] {
+        for with_orientation in [false, true] {
             let options = Options {
                 torque: Some(&*torque),
-                with_attitude,
+                with_orientation,
                 ..Options::default()
             };
             for (name, p, dt) in fixed {
@@ -1500,7 +1513,7 @@ fn switched_torques_keep_the_order_of_every_method() {
                 let bound = (1.5 * dt).powi(p) * 30.0;
                 assert!(
                     (observed - f64::from(p)).abs() <= 0.25 && e1 <= bound,
-                    "{label}, {name}, attitude {with_attitude}: errors {e1:.2e}, {e2:.2e}, \
+                    "{label}, {name}, orientation {with_orientation}: errors {e1:.2e}, {e2:.2e}, \
                      observed order {observed:.2} (expected {p}), bound {bound:.1e}"
                 );
             }
@@ -1514,7 +1527,7 @@ fn switched_torques_keep_the_order_of_every_method() {
             let err = switched_error(&sol, reference);
             assert!(
                 err <= 1e-11 && sol.stats.rejected_steps <= 2,
-                "{label}, dop853, attitude {with_attitude}: error {err:.2e}, {:?}",
+                "{label}, dop853, orientation {with_orientation}: error {err:.2e}, {:?}",
                 sol.stats
             );
         }
@@ -1530,7 +1543,7 @@ fn a_step_ending_at_a_switch_never_sees_the_next_piece() {
     let switch = 3.0 * PI;
     // Off before the switch, on from it: the closure fails if asked about the other piece.
     let asked = Mutex::new(Vec::new());
-    let closure = FnTorque::with_dependencies(
+    let closure = Function::with_dependencies(
         |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
             asked.lock().unwrap().push(t);
             Ok(Vector3::new(0.0, 0.0, if t >= switch { 0.25 } else { 0.0 }))
@@ -1539,8 +1552,8 @@ fn a_step_ending_at_a_switch_never_sees_the_next_piece() {
         true,
     )
     .with_discontinuities(vec![switch]);
-    let windowed = Windowed::new(
-        FnTorque::with_dependencies(
+    let windowed = Window::new(
+        Function::with_dependencies(
             |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
                 asked.lock().unwrap().push(t);
                 Ok(Vector3::new(0.0, 0.0, 0.25))
@@ -1610,7 +1623,7 @@ fn a_step_ending_at_a_switch_never_sees_the_next_piece() {
     assert!(asked.lock().unwrap().iter().all(|&x| x < switch));
 }
 
-/// Without the attitude, |L| = |m| is restored to its initial value (an exact invariant of the
+/// Without the orientation, |L| = |m| is restored to its initial value (an exact invariant of the
 /// method's rotations) and the rotations are unbiased: before, near the steady rotation about
 /// the largest axis, |L| shrank by 1.3e-12, 4.2e-12, 2.2e-11 over 1e6 steps (orders 2, 4, 6)
 /// and T drifted with it (order 2: 3e-13 over the first tenth, 2.6e-12 over the last).
@@ -1631,7 +1644,7 @@ fn splitting_omega_only_keeps_the_norm_of_the_angular_momentum() {
             SplittingOrder::Six,
         ] {
             let options = Options {
-                with_attitude: false,
+                with_orientation: false,
                 ..Options::default()
             };
             let method = Method::Splitting { dt, order };
@@ -1682,7 +1695,7 @@ fn monitor_progress_and_cancel() {
     let moments = Vector3::new(2.0, 3.0, 4.0);
     let state0 = State::from_omega(Vector3::new(0.1, 1.0, 0.1));
     let times = [0.5, 20.0, 40.0];
-    let torque = BodyConstantTorque::new(Vector3::new(0.0, 0.0, 1e-3)).unwrap();
+    let torque = BodyFixed::new(Vector3::new(0.0, 0.0, 1e-3)).unwrap();
     let mut methods = fixed_methods(1e-3);
     methods.push(("dop853", Method::Dop853(Dop853Options::with_rtol(1e-12))));
     for (name, method) in &methods {

@@ -4,7 +4,7 @@
 //! `python3 tests/reference_motion.py --rust-elliptic-tables` (mpmath 1.3 `ellipfun`, `ellipk`,
 //! `elliprf`, ..., at 50 + log10(1/mc) digits) and `python3 tests/reference_motion.py
 //! --rust-fixtures` (an independent Taylor-series integration of Euler's equations and the
-//! attitude quaternion at 30+ digits, exact quasi-periodicity beyond two periods).
+//! orientation quaternion at 30+ digits, exact quasi-periodicity beyond two periods).
 
 // Some mpmath values below are pi, pi/2 or ln 2 to the last digit: they stay as printed.
 #![allow(clippy::approx_constant)]
@@ -2434,7 +2434,7 @@ fn legendre_integrals_match_mpmath() {
     }
 }
 
-/// A reference trajectory. The brief asks for 1e-13 in omega and attitude up to 100 periods;
+/// A reference trajectory. The brief asks for 1e-13 in omega and orientation up to 100 periods;
 /// the tests hold 1e-14 (measured: below 3e-15 everywhere) to catch regressions.
 struct Fixture {
     moments: [f64; 3],
@@ -2487,11 +2487,11 @@ fn check(name: &str, f: &Fixture, tol: f64) -> (f64, f64) {
         let (ew, eq) = errors(&fr, *t, w, q);
         assert!(
             ew <= tol && eq <= tol,
-            "{name} at t = {t}: omega error {ew:e}, attitude error {eq:e}"
+            "{name} at t = {t}: omega error {ew:e}, orientation error {eq:e}"
         );
         worst = (worst.0.max(ew), worst.1.max(eq));
     }
-    println!("{name}: omega {:.2e}, attitude {:.2e}", worst.0, worst.1);
+    println!("{name}: omega {:.2e}, orientation {:.2e}", worst.0, worst.1);
     worst
 }
 
@@ -2649,7 +2649,7 @@ fn invariants_and_euler_equations() {
             );
             let e = 0.5 * m.dot(&w);
             assert!((e - fr.energy()).abs() <= 1e-14 * fr.energy());
-            // Euler's equations and the attitude equation, by central differences.
+            // Euler's equations and the orientation equation, by central differences.
             let (tp, tm) = (t + 1e-4 / w0.norm(), t - 1e-4 / w0.norm());
             let (wp, qp) = fr.state(tp);
             let (wm, qm) = fr.state(tm);

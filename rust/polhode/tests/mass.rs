@@ -268,6 +268,11 @@ fn validity_checks_reject_bad_tensors_and_accept_planar_and_collinear_ones() {
     assert!(MassProperties::sphere(-1.0, 1.0).is_err());
     assert!(MassProperties::sphere(1.0, f64::NAN).is_err());
     assert!(MassProperties::point_masses(&[1.0, 0.0], &[zero, zero]).is_err());
+    // The cone's third argument is its length along the axis.
+    assert!(matches!(
+        MassProperties::cone(1.0, 0.5, 0.0),
+        Err(polhode::Error::NonPositive { name, .. }) if name == "length"
+    ));
 }
 
 fn arb_rotation() -> impl Strategy<Value = Rotation3<f64>> {

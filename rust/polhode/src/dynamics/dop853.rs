@@ -364,7 +364,7 @@ pub fn dop853_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector
 }
 
 /// One torque-free 8th-order Dormand-Prince step (fixed `h`, no error control) of the angular
-/// velocity and attitude (quaternion renormalised).
+/// velocity and orientation (quaternion renormalised).
 #[must_use]
 pub fn dop853_step(body: &Moments, state: &State, h: f64) -> State {
     let mut y = match fixed_step(&Free { body }, 0.0, &pack(state), h) {
@@ -376,7 +376,7 @@ pub fn dop853_step(body: &Moments, state: &State, h: f64) -> State {
 }
 
 /// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity alone under `torque`
-/// from time `t`. The torque is evaluated with the identity attitude: an attitude-dependent
+/// from time `t`. The torque is evaluated with the identity orientation: an orientation-dependent
 /// torque is an error. The step is taken as free of the torque's discontinuities: a switched
 /// torque is in the state it has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn dop853_step_omega_torqued<T: Torque + ?Sized>(
@@ -386,11 +386,11 @@ pub fn dop853_step_omega_torqued<T: Torque + ?Sized>(
     omega: &Vector3<f64>,
     h: f64,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_attitude_free(torque)?;
+    super::torque::require_orientation_free(torque)?;
     fixed_step(&Torqued { body, torque }, t, omega, h)
 }
 
-/// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity and attitude under
+/// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity and orientation under
 /// `torque` from time `t` (a step free of the torque's discontinuities, as in
 /// [`dop853_step_omega_torqued`]).
 pub fn dop853_step_torqued<T: Torque + ?Sized>(

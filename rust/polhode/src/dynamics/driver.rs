@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::dop853::{self, Settings, Tolerance};
 use super::midpoint::{cayley_update, free_midpoint, torqued_midpoint};
-use super::rk4::{rk4, rk4_free_attitude};
+use super::rk4::{rk4, rk4_free_orientation};
 use super::splitting::{free_flow, torqued_step, SplittingOrder};
 use super::state::{Moments, State};
 use super::system::{Free, System, Torqued};
@@ -298,10 +298,10 @@ impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
 pub struct Options<'a> {
     /// Initial time: the state given is at `t0`; every output time is `>= t0` (default 0).
     pub t0: f64,
-    /// Whether to integrate and return the attitude (default `true`). When `false` only the
-    /// angular velocity is integrated (cheaper), unless the torque depends on the attitude, in
-    /// which case the attitude is integrated but not returned.
-    pub with_attitude: bool,
+    /// Whether to integrate and return the orientation (default `true`). When `false` only the
+    /// angular velocity is integrated (cheaper), unless the torque depends on the orientation, in
+    /// which case the orientation is integrated but not returned.
+    pub with_orientation: bool,
     /// External torque in body axes (default none).
     pub torque: Option<&'a dyn Torque>,
     /// Largest number of steps (accepted and rejected), an error if exceeded (default `1e8`).
@@ -315,7 +315,7 @@ impl Default for Options<'_> {
     fn default() -> Self {
         Self {
             t0: 0.0,
-            with_attitude: true,
+            with_orientation: true,
             torque: None,
             max_steps: 100_000_000,
             monitor: None,
@@ -340,8 +340,8 @@ pub struct Stats {
 pub struct Trajectory {
     /// Angular velocity in body axes at each output time.
     pub omega: Vec<Vector3<f64>>,
-    /// Body-to-space attitude at each output time (`None` unless `with_attitude`).
-    pub attitude: Option<Vec<UnitQuaternion<f64>>>,
+    /// Body-to-space orientation at each output time (`None` unless `with_orientation`).
+    pub orientation: Option<Vec<UnitQuaternion<f64>>>,
     /// What the integration cost.
     pub stats: Stats,
 }
@@ -363,16 +363,16 @@ fn check_times(times: &[f64], t0: f64) -> Result<()> {
     let mut prev = t0;
     for (k, &t) in times.iter().enumerate() {
         if !t.is_finite() {
-            finite(&format!("times[{k}]"), t)?;
+            finite(&format!("t[{k}]"), t)?;
         }
         if t < prev {
             return Err(Error::InvalidArgument {
-                name: "times".into(),
+                name: "t".into(),
                 reason: if k == 0 {
-                    format!("expected times[0] >= t0 = {t0}, got {t}.")
+                    format!("expected t[0] >= t0 = {t0}, got {t}.")
                 } else {
                     format!(
-                        "expected non-decreasing times, got times[{}] = {prev} > times[{k}] = {t}.",
+                        "expected non-decreasing t, got t[{}] = {prev} > t[{k}] = {t}.",
                         k - 1
                     )
                 },
@@ -413,14 +413,14 @@ fn check_method(method: &Method) -> Result<()> {
 /// Collects the outputs, checking that they are finite.
 struct Collector {
     omega: Vec<Vector3<f64>>,
-    attitude: Option<Vec<UnitQuaternion<f64>>>,
+    orientation: Option<Vec<UnitQuaternion<f64>>>,
 }
 
 impl Collector {
-    fn new(n: usize, with_attitude: bool) -> Self {
+    fn new(n: usize, with_orientation: bool) -> Self {
         Self {
             omega: Vec::with_capacity(n),
-            attitude: with_attitude.then(|| Vec::with_capacity(n)),
+            orientation: with_orientation.then(|| Vec::with_capacity(n)),
         }
     }
 
@@ -435,7 +435,7 @@ impl Collector {
             }
         }
         self.omega.push(*w);
-        if let (Some(att), Some(q)) = (self.attitude.as_mut(), q) {
+        if let (Some(att), Some(q)) = (self.orientation.as_mut(), q) {
             att.push(UnitQuaternion::new_unchecked(Quaternion::from(
                 q / q.norm(),
             )));
@@ -530,7 +530,7 @@ fn fixed_loop<Y>(
     Ok(total as u64)
 }
 
-/// Steps between two restorations of `|m|` in the torque-free splitting without attitude.
+/// Steps between two restorations of `|m|` in the torque-free splitting without orientation.
 const ANCHOR_EVERY: u32 = 16;
 
 fn run_splitting<const ATT: bool>(
@@ -542,17 +542,20 @@ fn run_splitting<const ATT: bool>(
     order: SplittingOrder,
     col: &mut Collector,
 ) -> Result<Stats> {
-    let mut y = (body.angular_momentum(&state0.omega), state0.attitude.coords);
+    let mut y = (
+        body.angular_momentum(&state0.omega),
+        state0.orientation.coords,
+    );
     let mut evals = 0;
     let inverse = *body.inverse();
     let out = |k: usize, y: &(Vector3<f64>, Vector4<f64>)| {
         col.push(times[k], &y.0.component_mul(&inverse), ATT.then_some(&y.1))
     };
-    // Torque-free with attitude: L_space = R(q) m is constant; recomputing m = R(q)^T L_space
+    // Torque-free with orientation: L_space = R(q) m is constant; recomputing m = R(q)^T L_space
     // after each step (exact in exact arithmetic) keeps the round-off of the axis rotations from
     // accumulating into a drift of L_space (~2e-18 a step otherwise, a bias not a random walk).
-    let l_space = state0.attitude * y.0;
-    // Without the attitude, |m| (an exact invariant of every sub-flow) is restored to its
+    let l_space = state0.orientation * y.0;
+    // Without the orientation, |m| (an exact invariant of every sub-flow) is restored to its
     // initial value every few steps: the rotations are unbiased, but their round-off is a
     // random walk of |m| (up to 3e-13 over 1e6 steps of order 6 otherwise). This removes
     // round-off only; it is not the rescaling of a method that does not conserve |m|. Skipped
@@ -614,7 +617,7 @@ fn run_midpoint<const ATT: bool>(
     dt: f64,
     col: &mut Collector,
 ) -> Result<Stats> {
-    let mut y = (state0.omega, state0.attitude.coords);
+    let mut y = (state0.omega, state0.orientation.coords);
     let mut evals = 0;
     let out =
         |k: usize, y: &(Vector3<f64>, Vector4<f64>)| col.push(times[k], &y.0, ATT.then_some(&y.1));
@@ -692,7 +695,7 @@ fn run_rk4<S: System<N>, const N: usize>(
 /// Steps between two renormalisations of the quaternion in the torque-free RK4.
 const RENORMALISE_EVERY: u32 = 64;
 
-fn run_rk4_free_attitude(
+fn run_rk4_free_orientation(
     body: &Moments,
     state0: &State,
     times: &[f64],
@@ -700,7 +703,7 @@ fn run_rk4_free_attitude(
     dt: f64,
     col: &mut Collector,
 ) -> Result<Stats> {
-    let mut y = (state0.omega, state0.attitude.coords);
+    let mut y = (state0.omega, state0.orientation.coords);
     // Torque-free, the quaternion's equation is linear in q and does not act back on omega:
     // RK4 maps c q to c q' exactly, so scaling q changes nothing but the round-off. Its norm
     // drifts by O(h^5) per step; renormalising every so many steps (and at each output) keeps
@@ -712,7 +715,7 @@ fn run_rk4_free_attitude(
         dt,
         &mut y,
         |_, _, (w, q), h| {
-            rk4_free_attitude(body, w, q, h);
+            rk4_free_orientation(body, w, q, h);
             since += 1;
             if since == RENORMALISE_EVERY {
                 *q /= q.norm();
@@ -820,14 +823,15 @@ fn run_dop853<S: System<N>, const N: usize>(
     Ok(stats)
 }
 
-/// Integrates Euler's equations (with the attitude if `options.with_attitude`) from
+/// Integrates Euler's equations (with the orientation if `options.with_orientation`) from
 /// `state0` at `options.t0`, returning the states at each of `times`.
 ///
-/// `moments`: principal moments (any order, finite, `> 0`). `times`: output times, finite,
-/// non-decreasing and `>= t0` (an output time equal to `t0` returns the initial state). The
-/// fixed-step methods take `n = ceil((t_k - t_{k-1}) / dt)` equal substeps between successive
-/// output times, so every output time is hit exactly and no step exceeds `dt`; `Dop853` steps
-/// freely and interpolates (7th-order dense output). Quaternions are returned normalised.
+/// `moments`: principal moments (any order, finite, `> 0`). `times`: output times (named `t`
+/// in errors), finite, non-decreasing and `>= t0` (an output time equal to `t0` returns the
+/// initial state). The fixed-step methods take `n = ceil((t_k - t_{k-1}) / dt)` equal substeps
+/// between successive output times, so every output time is hit exactly and no step exceeds
+/// `dt`; `Dop853` steps freely and interpolates (7th-order dense output). Quaternions are
+/// returned normalised.
 ///
 /// Errors: invalid arguments (non-finite state, non-positive moment, `dt`, `rtol`, `atol`,
 /// decreasing times), too many steps, a failed Newton iteration, a torque error, a solution
@@ -863,20 +867,23 @@ pub fn integrate_body(
             value: 0.0,
         });
     }
-    let norm = state0.attitude.coords.norm();
+    let norm = state0.orientation.coords.norm();
     if norm == 0.0 {
         return Err(Error::InvalidArgument {
-            name: "state0.attitude".into(),
+            name: "state0.orientation".into(),
             reason: "expected a non-zero quaternion, got 0.".into(),
         });
     }
     // Renormalised, in case it was built unchecked.
     let state0 = &State {
         omega: state0.omega,
-        attitude: UnitQuaternion::new_unchecked(Quaternion::from(state0.attitude.coords / norm)),
+        orientation: UnitQuaternion::new_unchecked(Quaternion::from(
+            state0.orientation.coords / norm,
+        )),
     };
-    let att = options.with_attitude || options.torque.is_some_and(|t| t.depends_on_attitude());
-    let mut col = Collector::new(times.len(), options.with_attitude);
+    let att =
+        options.with_orientation || options.torque.is_some_and(|t| t.depends_on_orientation());
+    let mut col = Collector::new(times.len(), options.with_orientation);
     let y3 = state0.omega;
     let y7 = super::system::pack(state0);
     let stats = match (*method, att) {
@@ -894,7 +901,7 @@ pub fn integrate_body(
         }
         (Method::Rk4 { dt }, a) => match (options.torque, a) {
             (None, false) => run_rk4(&Free { body }, y3, times, options, dt, &mut col),
-            (None, true) => run_rk4_free_attitude(body, state0, times, options, dt, &mut col),
+            (None, true) => run_rk4_free_orientation(body, state0, times, options, dt, &mut col),
             (Some(torque), false) => {
                 run_rk4(&Torqued { body, torque }, y3, times, options, dt, &mut col)
             }
@@ -915,7 +922,7 @@ pub fn integrate_body(
     }?;
     Ok(Trajectory {
         omega: col.omega,
-        attitude: col.attitude,
+        orientation: col.orientation,
         stats,
     })
 }

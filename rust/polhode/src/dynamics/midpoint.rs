@@ -119,9 +119,9 @@ fn mul(q: &Vector4<f64>, pv: &Vector3<f64>, ps: f64) -> Vector4<f64> {
     Vector4::new(v[0], v[1], v[2], q[3] * ps - qv.dot(pv))
 }
 
-/// The midpoint attitude `q (x) (1 + a)/|1 + a|`, `a = (0, h w_m / 4)`.
+/// The midpoint orientation `q (x) (1 + a)/|1 + a|`, `a = (0, h w_m / 4)`.
 #[inline]
-fn half_attitude(q: &Vector4<f64>, wm: &Vector3<f64>, h: f64) -> UnitQuaternion<f64> {
+fn half_orientation(q: &Vector4<f64>, wm: &Vector3<f64>, h: f64) -> UnitQuaternion<f64> {
     let a = wm * (0.25 * h);
     let p = mul(q, &a, 1.0);
     UnitQuaternion::new_unchecked(Quaternion::from(p / p.norm()))
@@ -141,14 +141,14 @@ fn torque_term<T: Torque + ?Sized, const ATT: bool>(
     evals: &mut u64,
 ) -> Result<Vector3<f64>> {
     *evals += 1;
-    let attitude = if ATT {
-        half_attitude(q, w, h)
+    let orientation = if ATT {
+        half_orientation(q, w, h)
     } else {
         UnitQuaternion::identity()
     };
     Ok(body
         .inverse()
-        .component_mul(&torque.try_torque_body_in(segment, tm, w, &attitude)?))
+        .component_mul(&torque.try_torque_body_in(segment, tm, w, &orientation)?))
 }
 
 /// The midpoint value `w_m` under a torque, from `(w0, q)` at time `t`, for a step lying in
@@ -224,18 +224,18 @@ pub fn midpoint_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Resu
     Ok(wm * 2.0 - omega)
 }
 
-/// One torque-free implicit midpoint step of the angular velocity and attitude.
+/// One torque-free implicit midpoint step of the angular velocity and orientation.
 pub fn midpoint_step(body: &Moments, state: &State, h: f64) -> Result<State> {
     let wm = free_midpoint(body, &state.omega, h, &mut 0)?;
-    let q = cayley_update(&state.attitude.coords, &wm, h);
+    let q = cayley_update(&state.orientation.coords, &wm, h);
     Ok(State {
         omega: wm * 2.0 - state.omega,
-        attitude: UnitQuaternion::new_unchecked(Quaternion::from(q)),
+        orientation: UnitQuaternion::new_unchecked(Quaternion::from(q)),
     })
 }
 
 /// One implicit midpoint step of the angular velocity alone under `torque`, from time `t`. The
-/// torque is evaluated with the identity attitude: an attitude-dependent torque is an error.
+/// torque is evaluated with the identity orientation: an orientation-dependent torque is an error.
 /// The step is taken as free of the torque's discontinuities: a switched torque is in the state
 /// it has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn midpoint_step_omega_torqued<T: Torque + ?Sized>(
@@ -245,14 +245,14 @@ pub fn midpoint_step_omega_torqued<T: Torque + ?Sized>(
     omega: &Vector3<f64>,
     h: f64,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_attitude_free(torque)?;
+    super::torque::require_orientation_free(torque)?;
     let q = Vector4::new(0.0, 0.0, 0.0, 1.0);
     let segment = Segment::of_step(t, h);
     let wm = torqued_midpoint::<T, false>(body, torque, &segment, t, omega, &q, h, &mut 0)?;
     Ok(wm * 2.0 - omega)
 }
 
-/// One implicit midpoint step of the angular velocity and attitude under `torque`, from `t` (a
+/// One implicit midpoint step of the angular velocity and orientation under `torque`, from `t` (a
 /// step free of the torque's discontinuities, as in [`midpoint_step_omega_torqued`]).
 pub fn midpoint_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
@@ -261,12 +261,12 @@ pub fn midpoint_step_torqued<T: Torque + ?Sized>(
     state: &State,
     h: f64,
 ) -> Result<State> {
-    let q = state.attitude.coords;
+    let q = state.orientation.coords;
     let segment = Segment::of_step(t, h);
     let wm = torqued_midpoint::<T, true>(body, torque, &segment, t, &state.omega, &q, h, &mut 0)?;
     let q = cayley_update(&q, &wm, h);
     Ok(State {
         omega: wm * 2.0 - state.omega,
-        attitude: UnitQuaternion::new_unchecked(Quaternion::from(q)),
+        orientation: UnitQuaternion::new_unchecked(Quaternion::from(q)),
     })
 }

@@ -1,12 +1,12 @@
 //! Euler's equations with orientation: integrators and torques.
 //!
-//! State: the angular velocity `w` in body (principal) axes and the body-to-space attitude
+//! State: the angular velocity `w` in body (principal) axes and the body-to-space orientation
 //! quaternion `q` (`x_space = R(q) x_body`). Equations (Landau-Lifshitz par. 36):
 //! `I1 w1' + (I3 - I2) w2 w3 = tau1` (and cyclic), `tau` in body axes, and
 //! `q' = 1/2 q (x) (0, w)`. Without torque, `L_space = R(q) I w`, `|L|` and
 //! `T = 1/2 sum I_i w_i^2` are constant.
 //!
-//! Methods, each as pure single-step functions (angular velocity alone, or with the attitude;
+//! Methods, each as pure single-step functions (angular velocity alone, or with the orientation;
 //! torque-free or under a [`Torque`]) and through the driver [`integrate`]:
 //! - [`splitting`]: Lie-Poisson splitting into exact axis rotations, orders 2, 4, 6; `|L|` and
 //!   `L_space` conserved to round-off, energy error bounded;
@@ -23,10 +23,10 @@
 //! let times: Vec<f64> = (0..=10).map(|k| k as f64).collect();
 //! let method = Method::Splitting { dt: 1e-3, order: SplittingOrder::Four };
 //! let sol = integrate(&method, &moments, &state0, &times, &Options::default()).unwrap();
-//! let attitude = sol.attitude.unwrap();
+//! let orientation = sol.orientation.unwrap();
 //! // L in space is conserved to round-off.
-//! let l0 = state0.attitude * moments.component_mul(&state0.omega);
-//! let l10 = attitude[10] * moments.component_mul(&sol.omega[10]);
+//! let l0 = state0.orientation * moments.component_mul(&state0.omega);
+//! let l10 = orientation[10] * moments.component_mul(&sol.omega[10]);
 //! assert!((l10 - l0).norm() <= 1e-13 * l0.norm());
 //! ```
 
@@ -54,6 +54,5 @@ pub use splitting::{
 };
 pub use state::{Moments, State};
 pub use torque::{
-    BodyConstantTorque, FnTorque, GravityGradient, PivotGravity, Segment, SpaceConstantTorque,
-    Torque, TorqueSum, Windowed,
+    BodyFixed, Function, Gravity, GravityGradient, Segment, SpaceFixed, Sum, Torque, Window,
 };

@@ -29,7 +29,7 @@ pub(crate) fn rk4<S: System<N>, const N: usize>(
 
 /// One torque-free RK4 step of `(w, q)` on raw quaternion coordinates (not renormalised).
 #[inline]
-pub(crate) fn rk4_free_attitude(
+pub(crate) fn rk4_free_orientation(
     body: &Moments,
     w: &mut Vector3<f64>,
     q: &mut Vector4<f64>,
@@ -58,7 +58,7 @@ pub fn rk4_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f
     }
 }
 
-/// One torque-free RK4 step of the angular velocity and attitude (quaternion renormalised).
+/// One torque-free RK4 step of the angular velocity and orientation (quaternion renormalised).
 #[must_use]
 pub fn rk4_step(body: &Moments, state: &State, h: f64) -> State {
     let mut y = match rk4(
@@ -76,9 +76,9 @@ pub fn rk4_step(body: &Moments, state: &State, h: f64) -> State {
 }
 
 /// One RK4 step of the angular velocity alone under `torque` from time `t`. The torque is
-/// evaluated with the identity attitude: an attitude-dependent torque is an error. The step is
-/// taken as free of the torque's discontinuities: a switched torque is in the state it has at
-/// its midpoint (see [`Torque::try_torque_body_in`]).
+/// evaluated with the identity orientation: an orientation-dependent torque is an error. The
+/// step is taken as free of the torque's discontinuities: a switched torque is in the state it
+/// has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -86,7 +86,7 @@ pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
     omega: &Vector3<f64>,
     h: f64,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_attitude_free(torque)?;
+    super::torque::require_orientation_free(torque)?;
     rk4(
         &Torqued { body, torque },
         &Segment::of_step(t, h),
@@ -96,7 +96,7 @@ pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
     )
 }
 
-/// One RK4 step of the angular velocity and attitude under `torque` from time `t` (a step free
+/// One RK4 step of the angular velocity and orientation under `torque` from time `t` (a step free
 /// of the torque's discontinuities, as in [`rk4_step_omega_torqued`]).
 pub fn rk4_step_torqued<T: Torque + ?Sized>(
     body: &Moments,

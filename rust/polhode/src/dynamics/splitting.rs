@@ -4,7 +4,7 @@
 //!
 //! `T = sum m_i^2 / (2 I_i)` (`m = I w`, body angular momentum) is split into three pieces; the
 //! flow of `m_i^2 / (2 I_i)` is exact: it rotates `m` about the body axis `e_i` by the angle
-//! `-(m_i / I_i) h` and post-multiplies the attitude by the rotation about `e_i` by
+//! `-(m_i / I_i) h` and post-multiplies the orientation by the rotation about `e_i` by
 //! `+(m_i / I_i) h`, so `|m|` and `L_space = R(q) m` are conserved to round-off. The symmetric
 //! (Strang) composition `A(h/2) B(h/2) C(h) B(h/2) A(h/2)` is explicit, symplectic and of order
 //! 2 with a bounded energy error; Yoshida's compositions (*Phys. Lett. A* 150, 262, 1990) raise
@@ -201,8 +201,8 @@ fn eval<T: Torque + ?Sized, const ATT: bool>(
     *evals += 1;
     let w = m.component_mul(body.inverse());
     if ATT {
-        let attitude = UnitQuaternion::new_unchecked(Quaternion::from(*q));
-        torque.try_torque_body_in(segment, t, &w, &attitude)
+        let orientation = UnitQuaternion::new_unchecked(Quaternion::from(*q));
+        torque.try_torque_body_in(segment, t, &w, &orientation)
     } else {
         torque.try_torque_body_in(segment, t, &w, &UnitQuaternion::identity())
     }
@@ -309,7 +309,7 @@ pub fn splitting_step_omega(
     m.component_mul(body.inverse())
 }
 
-/// One torque-free splitting step of the angular velocity and attitude.
+/// One torque-free splitting step of the angular velocity and orientation.
 ///
 /// `|m|` and `L_space` are conserved up to round-off, which over repeated calls accumulates as
 /// a small bias in `L_space` (2.5e-12 relative after 1e6 steps of `h |w| = 0.01`); the driver
@@ -317,19 +317,19 @@ pub fn splitting_step_omega(
 #[must_use]
 pub fn splitting_step(body: &Moments, state: &State, h: f64, order: SplittingOrder) -> State {
     let mut m = body.angular_momentum(&state.omega);
-    let mut q = state.attitude.coords;
+    let mut q = state.orientation.coords;
     free_flow::<true>(body, &mut m, &mut q, h, order);
     normalize(&mut q);
     State {
         omega: m.component_mul(body.inverse()),
-        attitude: UnitQuaternion::new_unchecked(Quaternion::from(q)),
+        orientation: UnitQuaternion::new_unchecked(Quaternion::from(q)),
     }
 }
 
-/// One splitting step of the angular velocity alone under `torque`, from time `t`. The torque is
-/// evaluated with the identity attitude: an attitude-dependent torque is an error. The step is
-/// taken as free of the torque's discontinuities: a switched torque is in the state it has at
-/// its midpoint (see [`Torque::try_torque_body_in`]).
+/// One splitting step of the angular velocity alone under `torque`, from time `t`. The torque
+/// is evaluated with the identity orientation: an orientation-dependent torque is an error. The
+/// step is taken as free of the torque's discontinuities: a switched torque is in the state it
+/// has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn splitting_step_omega_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -338,7 +338,7 @@ pub fn splitting_step_omega_torqued<T: Torque + ?Sized>(
     h: f64,
     order: SplittingOrder,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_attitude_free(torque)?;
+    super::torque::require_orientation_free(torque)?;
     let mut m = body.angular_momentum(omega);
     let mut q = Vector4::new(0.0, 0.0, 0.0, 1.0);
     let mut evals = 0;
@@ -349,7 +349,7 @@ pub fn splitting_step_omega_torqued<T: Torque + ?Sized>(
     Ok(m.component_mul(body.inverse()))
 }
 
-/// One splitting step of the angular velocity and attitude under `torque`, from time `t` (a step
+/// One splitting step of the angular velocity and orientation under `torque`, from time `t` (a step
 /// free of the torque's discontinuities, as in [`splitting_step_omega_torqued`]).
 pub fn splitting_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
@@ -360,7 +360,7 @@ pub fn splitting_step_torqued<T: Torque + ?Sized>(
     order: SplittingOrder,
 ) -> Result<State> {
     let mut m = body.angular_momentum(&state.omega);
-    let mut q = state.attitude.coords;
+    let mut q = state.orientation.coords;
     let mut evals = 0;
     let segment = Segment::of_step(t, h);
     torqued_step::<T, true>(
@@ -369,7 +369,7 @@ pub fn splitting_step_torqued<T: Torque + ?Sized>(
     normalize(&mut q);
     Ok(State {
         omega: m.component_mul(body.inverse()),
-        attitude: UnitQuaternion::new_unchecked(Quaternion::from(q)),
+        orientation: UnitQuaternion::new_unchecked(Quaternion::from(q)),
     })
 }
 

@@ -5,37 +5,37 @@ use nalgebra::{UnitQuaternion, Vector3, Vector4};
 use crate::error::{finite, positive};
 use crate::Result;
 
-/// The state of a rigid body: angular velocity in body axes and attitude.
+/// The state of a rigid body: angular velocity in body axes and orientation.
 ///
-/// The attitude maps body to space, `x_space = R(attitude) x_body`.
+/// The orientation maps body to space, `x_space = R(orientation) x_body`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct State {
     /// Angular velocity in body (principal) axes.
     pub omega: Vector3<f64>,
     /// Body-to-space rotation.
-    pub attitude: UnitQuaternion<f64>,
+    pub orientation: UnitQuaternion<f64>,
 }
 
 impl State {
-    /// A state from an angular velocity (body axes) and an attitude.
+    /// A state from an angular velocity (body axes) and an orientation.
     #[must_use]
-    pub fn new(omega: Vector3<f64>, attitude: UnitQuaternion<f64>) -> Self {
-        Self { omega, attitude }
+    pub fn new(omega: Vector3<f64>, orientation: UnitQuaternion<f64>) -> Self {
+        Self { omega, orientation }
     }
 
-    /// A state with the body axes aligned with the space axes (identity attitude).
+    /// A state with the body axes aligned with the space axes (identity orientation).
     #[must_use]
     pub fn from_omega(omega: Vector3<f64>) -> Self {
         Self {
             omega,
-            attitude: UnitQuaternion::identity(),
+            orientation: UnitQuaternion::identity(),
         }
     }
 
     /// Angular momentum in space axes, `L = R(q) I w`: constant without torque.
     #[must_use]
     pub fn angular_momentum_space(&self, moments: &Moments) -> Vector3<f64> {
-        self.attitude * moments.angular_momentum(&self.omega)
+        self.orientation * moments.angular_momentum(&self.omega)
     }
 
     /// Checks that every component is finite; `name` names the argument in the error.
@@ -47,8 +47,11 @@ impl State {
             }
         }
         for i in 0..4 {
-            if !self.attitude.coords[i].is_finite() {
-                finite(&format!("{name}.attitude[{i}]"), self.attitude.coords[i])?;
+            if !self.orientation.coords[i].is_finite() {
+                finite(
+                    &format!("{name}.orientation[{i}]"),
+                    self.orientation.coords[i],
+                )?;
             }
         }
         Ok(())

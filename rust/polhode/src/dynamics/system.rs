@@ -1,5 +1,5 @@
 //! Euler's equations as first-order systems for the Runge-Kutta methods: `N = 3` (angular
-//! velocity only) or `N = 7` (angular velocity, then the attitude quaternion `(x, y, z, w)`).
+//! velocity only) or `N = 7` (angular velocity, then the orientation quaternion `(x, y, z, w)`).
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
@@ -29,7 +29,7 @@ pub(crate) fn join(w: &Vector3<f64>, q: &Vector4<f64>) -> SVector<f64, 7> {
 
 #[inline]
 pub(crate) fn pack(state: &State) -> SVector<f64, 7> {
-    join(&state.omega, &state.attitude.coords)
+    join(&state.omega, &state.orientation.coords)
 }
 
 /// Rescales the quaternion part of `y` to unit norm; returns the factor applied.
@@ -48,7 +48,7 @@ pub(crate) fn unpack(y: &SVector<f64, 7>) -> State {
     let (w, q) = parts(y);
     State {
         omega: w,
-        attitude: UnitQuaternion::new_normalize(Quaternion::from(q)),
+        orientation: UnitQuaternion::new_normalize(Quaternion::from(q)),
     }
 }
 
@@ -72,8 +72,8 @@ impl System<7> for Free<'_> {
     }
 }
 
-/// The body under a torque. With `N = 3` the torque sees the identity attitude (the caller
-/// ensures that it does not depend on the attitude).
+/// The body under a torque. With `N = 3` the torque sees the identity orientation (the caller
+/// ensures that it does not depend on the orientation).
 pub(crate) struct Torqued<'a, T: ?Sized> {
     pub body: &'a Moments,
     pub torque: &'a T,
@@ -93,8 +93,10 @@ impl<T: Torque + ?Sized> System<7> for Torqued<'_, T> {
     #[inline]
     fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, 7>) -> Result<SVector<f64, 7>> {
         let (w, q) = parts(y);
-        let attitude = UnitQuaternion::new_unchecked(Quaternion::from(q / q.norm()));
-        let tau = self.torque.try_torque_body_in(segment, t, &w, &attitude)?;
+        let orientation = UnitQuaternion::new_unchecked(Quaternion::from(q / q.norm()));
+        let tau = self
+            .torque
+            .try_torque_body_in(segment, t, &w, &orientation)?;
         Ok(join(
             &self.body.euler_rhs_torqued(&w, &tau),
             &quaternion_rate(&q, &w),

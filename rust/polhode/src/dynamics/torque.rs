@@ -63,15 +63,15 @@ impl Segment {
 /// A torque that switches (jumps, or a derivative jumps) at some times reports them in
 /// [`Torque::discontinuities`] and overrides [`Torque::try_torque_body_in`] so that, within a
 /// step, it stays in the state it has on the step's segment between two switches (see
-/// [`Windowed`]).
+/// [`Window`]).
 pub trait Torque: Sync {
     /// The torque in body axes at time `t`, for the body angular velocity `omega` and the
-    /// body-to-space `attitude`.
+    /// body-to-space `orientation`.
     fn torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64>;
 
     /// The fallible path the integrators use; by default `Ok(torque_body(..))`.
@@ -79,9 +79,9 @@ pub trait Torque: Sync {
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
-        Ok(self.torque_body(t, omega, attitude))
+        Ok(self.torque_body(t, omega, orientation))
     }
 
     /// The torque at the stage time `t` of a step that lies in `segment`, a segment with no
@@ -99,15 +99,15 @@ pub trait Torque: Sync {
         segment: &Segment,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         let _ = segment;
-        self.try_torque_body(t, omega, attitude)
+        self.try_torque_body(t, omega, orientation)
     }
 
-    /// Whether the torque depends on the attitude. If not, the angular velocity can be
+    /// Whether the torque depends on the orientation. If not, the angular velocity can be
     /// integrated alone.
-    fn depends_on_attitude(&self) -> bool {
+    fn depends_on_orientation(&self) -> bool {
         true
     }
 
@@ -117,7 +117,7 @@ pub trait Torque: Sync {
         true
     }
 
-    /// Times at which the torque (or a derivative) jumps, e.g. the ends of a [`Windowed`]
+    /// Times at which the torque (or a derivative) jumps, e.g. the ends of a [`Window`]
     /// torque. The driver ends a step at each of them (and restarts `Dop853` there), so that
     /// no step straddles a switch and the methods keep their order.
     fn discontinuities(&self) -> Vec<f64> {
@@ -130,29 +130,29 @@ impl<T: Torque + ?Sized> Torque for &T {
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
-        (**self).torque_body(t, omega, attitude)
+        (**self).torque_body(t, omega, orientation)
     }
     fn try_torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
-        (**self).try_torque_body(t, omega, attitude)
+        (**self).try_torque_body(t, omega, orientation)
     }
     fn try_torque_body_in(
         &self,
         segment: &Segment,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
-        (**self).try_torque_body_in(segment, t, omega, attitude)
+        (**self).try_torque_body_in(segment, t, omega, orientation)
     }
-    fn depends_on_attitude(&self) -> bool {
-        (**self).depends_on_attitude()
+    fn depends_on_orientation(&self) -> bool {
+        (**self).depends_on_orientation()
     }
     fn depends_on_omega(&self) -> bool {
         (**self).depends_on_omega()
@@ -167,29 +167,29 @@ impl<T: Torque + ?Sized> Torque for Box<T> {
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
-        (**self).torque_body(t, omega, attitude)
+        (**self).torque_body(t, omega, orientation)
     }
     fn try_torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
-        (**self).try_torque_body(t, omega, attitude)
+        (**self).try_torque_body(t, omega, orientation)
     }
     fn try_torque_body_in(
         &self,
         segment: &Segment,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
-        (**self).try_torque_body_in(segment, t, omega, attitude)
+        (**self).try_torque_body_in(segment, t, omega, orientation)
     }
-    fn depends_on_attitude(&self) -> bool {
-        (**self).depends_on_attitude()
+    fn depends_on_orientation(&self) -> bool {
+        (**self).depends_on_orientation()
     }
     fn depends_on_omega(&self) -> bool {
         (**self).depends_on_omega()
@@ -208,11 +208,11 @@ fn finite_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
 
 /// A torque constant in body axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyConstantTorque {
+pub struct BodyFixed {
     torque: Vector3<f64>,
 }
 
-impl BodyConstantTorque {
+impl BodyFixed {
     /// A constant torque `torque` in body axes (finite).
     pub fn new(torque: Vector3<f64>) -> Result<Self> {
         finite_vector("torque", &torque)?;
@@ -220,16 +220,16 @@ impl BodyConstantTorque {
     }
 }
 
-impl Torque for BodyConstantTorque {
+impl Torque for BodyFixed {
     fn torque_body(
         &self,
         _t: f64,
         _omega: &Vector3<f64>,
-        _attitude: &UnitQuaternion<f64>,
+        _orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
         self.torque
     }
-    fn depends_on_attitude(&self) -> bool {
+    fn depends_on_orientation(&self) -> bool {
         false
     }
     fn depends_on_omega(&self) -> bool {
@@ -239,11 +239,11 @@ impl Torque for BodyConstantTorque {
 
 /// A torque constant in space axes: `tau_body = R(q)^T tau_space`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpaceConstantTorque {
+pub struct SpaceFixed {
     torque_space: Vector3<f64>,
 }
 
-impl SpaceConstantTorque {
+impl SpaceFixed {
     /// A constant torque `torque_space` in space axes (finite).
     pub fn new(torque_space: Vector3<f64>) -> Result<Self> {
         finite_vector("torque_space", &torque_space)?;
@@ -251,14 +251,14 @@ impl SpaceConstantTorque {
     }
 }
 
-impl Torque for SpaceConstantTorque {
+impl Torque for SpaceFixed {
     fn torque_body(
         &self,
         _t: f64,
         _omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
-        attitude.inverse_transform_vector(&self.torque_space)
+        orientation.inverse_transform_vector(&self.torque_space)
     }
     fn depends_on_omega(&self) -> bool {
         false
@@ -272,12 +272,12 @@ impl Torque for SpaceConstantTorque {
 /// `V = -m g . (R(q) r)`. Integrate with the principal moments ABOUT THE PIVOT
 /// (`I_pivot = I_cm + m (|r|^2 1 - r r^T)`, diagonal in the chosen body axes).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PivotGravity {
+pub struct Gravity {
     center_of_mass: Vector3<f64>,
     weight: Vector3<f64>,
 }
 
-impl PivotGravity {
+impl Gravity {
     /// `center_of_mass`: position of the centre of mass relative to the pivot, body axes;
     /// `mass > 0`; `gravity`: gravitational acceleration in space axes (e.g. `(0, 0, -9.81)`).
     pub fn new(center_of_mass: Vector3<f64>, mass: f64, gravity: Vector3<f64>) -> Result<Self> {
@@ -293,20 +293,20 @@ impl PivotGravity {
     /// The potential energy `V = -m g . (R(q) r)` (zero with the centre of mass at the pivot
     /// height).
     #[must_use]
-    pub fn potential_energy(&self, attitude: &UnitQuaternion<f64>) -> f64 {
-        -self.weight.dot(&(attitude * self.center_of_mass))
+    pub fn potential_energy(&self, orientation: &UnitQuaternion<f64>) -> f64 {
+        -self.weight.dot(&(orientation * self.center_of_mass))
     }
 }
 
-impl Torque for PivotGravity {
+impl Torque for Gravity {
     fn torque_body(
         &self,
         _t: f64,
         _omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
         self.center_of_mass
-            .cross(&attitude.inverse_transform_vector(&self.weight))
+            .cross(&orientation.inverse_transform_vector(&self.weight))
     }
     fn depends_on_omega(&self) -> bool {
         false
@@ -385,9 +385,9 @@ impl Torque for GravityGradient {
         &self,
         t: f64,
         _omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
-        let r = attitude.inverse_transform_vector(&self.radial_space(t));
+        let r = orientation.inverse_transform_vector(&self.radial_space(t));
         let n2 = self.mean_motion * self.mean_motion;
         (3.0 * n2) * r.cross(&self.moments.component_mul(&r))
     }
@@ -405,13 +405,13 @@ impl Torque for GravityGradient {
 /// throughout, a step starting there on throughout): each step integrates the smooth inner
 /// torque, or none, and every method keeps its order.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Windowed<T> {
+pub struct Window<T> {
     inner: T,
     start: f64,
     end: f64,
 }
 
-impl<T: Torque> Windowed<T> {
+impl<T: Torque> Window<T> {
     /// `inner` active on `[start, end)`; `start <= end`, neither NaN (infinite bounds allowed).
     pub fn new(inner: T, start: f64, end: f64) -> Result<Self> {
         if start.is_nan() || end.is_nan() || start > end {
@@ -430,15 +430,15 @@ impl<T: Torque> Windowed<T> {
     }
 }
 
-impl<T: Torque> Torque for Windowed<T> {
+impl<T: Torque> Torque for Window<T> {
     fn torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
         if self.active(t) {
-            self.inner.torque_body(t, omega, attitude)
+            self.inner.torque_body(t, omega, orientation)
         } else {
             Vector3::zeros()
         }
@@ -447,10 +447,10 @@ impl<T: Torque> Torque for Windowed<T> {
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         if self.active(t) {
-            self.inner.try_torque_body(t, omega, attitude)
+            self.inner.try_torque_body(t, omega, orientation)
         } else {
             Ok(Vector3::zeros())
         }
@@ -460,16 +460,17 @@ impl<T: Torque> Torque for Windowed<T> {
         segment: &Segment,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         if self.active(segment.midpoint()) {
-            self.inner.try_torque_body_in(segment, t, omega, attitude)
+            self.inner
+                .try_torque_body_in(segment, t, omega, orientation)
         } else {
             Ok(Vector3::zeros())
         }
     }
-    fn depends_on_attitude(&self) -> bool {
-        self.inner.depends_on_attitude()
+    fn depends_on_orientation(&self) -> bool {
+        self.inner.depends_on_orientation()
     }
     fn depends_on_omega(&self) -> bool {
         self.inner.depends_on_omega()
@@ -484,11 +485,11 @@ impl<T: Torque> Torque for Windowed<T> {
 
 /// The sum of several torques.
 #[derive(Default)]
-pub struct TorqueSum {
+pub struct Sum {
     terms: Vec<Box<dyn Torque + Send>>,
 }
 
-impl TorqueSum {
+impl Sum {
     /// An empty sum (zero torque).
     #[must_use]
     pub fn new() -> Self {
@@ -520,27 +521,27 @@ impl TorqueSum {
     }
 }
 
-impl Torque for TorqueSum {
+impl Torque for Sum {
     fn torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
         self.terms
             .iter()
-            .map(|term| term.torque_body(t, omega, attitude))
+            .map(|term| term.torque_body(t, omega, orientation))
             .sum()
     }
     fn try_torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         let mut total = Vector3::zeros();
         for term in &self.terms {
-            total += term.try_torque_body(t, omega, attitude)?;
+            total += term.try_torque_body(t, omega, orientation)?;
         }
         Ok(total)
     }
@@ -549,16 +550,16 @@ impl Torque for TorqueSum {
         segment: &Segment,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         let mut total = Vector3::zeros();
         for term in &self.terms {
-            total += term.try_torque_body_in(segment, t, omega, attitude)?;
+            total += term.try_torque_body_in(segment, t, omega, orientation)?;
         }
         Ok(total)
     }
-    fn depends_on_attitude(&self) -> bool {
-        self.terms.iter().any(|term| term.depends_on_attitude())
+    fn depends_on_orientation(&self) -> bool {
+        self.terms.iter().any(|term| term.depends_on_orientation())
     }
     fn depends_on_omega(&self) -> bool {
         self.terms.iter().any(|term| term.depends_on_omega())
@@ -571,39 +572,39 @@ impl Torque for TorqueSum {
     }
 }
 
-/// A torque given by a closure `f(t, omega, attitude) -> Result<tau_body>` (body axes).
+/// A torque given by a closure `f(t, omega, orientation) -> Result<tau_body>` (body axes).
 ///
 /// An `Err` returned by the closure stops the integration, which returns that error. A binding
 /// that calls into another language keeps the foreign exception aside (e.g. in a
 /// `Mutex<Option<..>>` captured by the closure), returns any `Err` here, and raises the kept
 /// exception when the integration returns. The infallible [`Torque::torque_body`] of this type
 /// returns NaN components on error; integrators never call it.
-pub struct FnTorque<F> {
+pub struct Function<F> {
     f: F,
-    attitude: bool,
+    orientation: bool,
     omega: bool,
     breaks: Vec<f64>,
 }
 
-impl<F> FnTorque<F>
+impl<F> Function<F>
 where
     F: Fn(f64, &Vector3<f64>, &UnitQuaternion<f64>) -> Result<Vector3<f64>> + Sync,
 {
-    /// A closure torque, assumed to depend on both the attitude and the angular velocity.
+    /// A closure torque, assumed to depend on both the orientation and the angular velocity.
     pub fn new(f: F) -> Self {
         Self {
             f,
-            attitude: true,
+            orientation: true,
             omega: true,
             breaks: Vec::new(),
         }
     }
 
     /// A closure torque with declared dependencies (a wrong `false` gives wrong results).
-    pub fn with_dependencies(f: F, depends_on_attitude: bool, depends_on_omega: bool) -> Self {
+    pub fn with_dependencies(f: F, depends_on_orientation: bool, depends_on_omega: bool) -> Self {
         Self {
             f,
-            attitude: depends_on_attitude,
+            orientation: depends_on_orientation,
             omega: depends_on_omega,
             breaks: Vec::new(),
         }
@@ -619,7 +620,7 @@ where
     /// piece: the stages of the order-4 and order-6 splittings that reach beyond a declared time
     /// (their sub-steps go backwards and forwards) see the value at the end of the piece, which
     /// costs those two methods some order in the steps next to it. A smooth closure switched
-    /// on and off keeps every order as the inner torque of a [`Windowed`].
+    /// on and off keeps every order as the inner torque of a [`Window`].
     #[must_use]
     pub fn with_discontinuities(mut self, times: Vec<f64>) -> Self {
         self.breaks = times;
@@ -627,7 +628,7 @@ where
     }
 }
 
-impl<F> Torque for FnTorque<F>
+impl<F> Torque for Function<F>
 where
     F: Fn(f64, &Vector3<f64>, &UnitQuaternion<f64>) -> Result<Vector3<f64>> + Sync,
 {
@@ -635,17 +636,17 @@ where
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Vector3<f64> {
-        (self.f)(t, omega, attitude).unwrap_or_else(|_| Vector3::repeat(f64::NAN))
+        (self.f)(t, omega, orientation).unwrap_or_else(|_| Vector3::repeat(f64::NAN))
     }
     fn try_torque_body(
         &self,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
-        let tau = (self.f)(t, omega, attitude)?;
+        let tau = (self.f)(t, omega, orientation)?;
         for i in 0..3 {
             if !tau[i].is_finite() {
                 return Err(Error::NonFinite {
@@ -661,10 +662,10 @@ where
         segment: &Segment,
         t: f64,
         omega: &Vector3<f64>,
-        attitude: &UnitQuaternion<f64>,
+        orientation: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>> {
         if self.breaks.is_empty() {
-            return self.try_torque_body(t, omega, attitude);
+            return self.try_torque_body(t, omega, orientation);
         }
         // The piece (lo, hi) of the declared times that holds the segment.
         let mid = segment.midpoint();
@@ -677,10 +678,10 @@ where
             }
         }
         let inside = t.max(lo.next_up()).min(hi.next_down());
-        self.try_torque_body(inside, omega, attitude)
+        self.try_torque_body(inside, omega, orientation)
     }
-    fn depends_on_attitude(&self) -> bool {
-        self.attitude
+    fn depends_on_orientation(&self) -> bool {
+        self.orientation
     }
     fn depends_on_omega(&self) -> bool {
         self.omega
@@ -690,12 +691,12 @@ where
     }
 }
 
-/// Errors if `torque` depends on the attitude (for the angular-velocity-only integrators).
-pub(crate) fn require_attitude_free<T: Torque + ?Sized>(torque: &T) -> Result<()> {
-    if torque.depends_on_attitude() {
+/// Errors if `torque` depends on the orientation (for the angular-velocity-only integrators).
+pub(crate) fn require_orientation_free<T: Torque + ?Sized>(torque: &T) -> Result<()> {
+    if torque.depends_on_orientation() {
         Err(Error::InvalidArgument {
             name: "torque".into(),
-            reason: "the torque depends on the attitude: integrate the attitude too.".into(),
+            reason: "the torque depends on the orientation: integrate the orientation too.".into(),
         })
     } else {
         Ok(())
@@ -744,25 +745,19 @@ mod tests {
     /// torque is evaluated at the stage time, even outside the segment.
     #[test]
     fn switched_torques_take_the_state_of_their_segment() {
-        let ramp = FnTorque::with_dependencies(
+        let ramp = Function::with_dependencies(
             |t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| Ok(Vector3::new(0.0, 0.0, t)),
             false,
             false,
         );
-        let window = Windowed::new(ramp, 1.0, 2.0).unwrap();
-        let boxed: Box<dyn Torque + Send> = Box::new(
-            Windowed::new(BodyConstantTorque::new(Vector3::z()).unwrap(), 1.0, 2.0).unwrap(),
-        );
-        let sum = TorqueSum::new()
-            .with(Windowed::new(BodyConstantTorque::new(Vector3::z()).unwrap(), 1.0, 2.0).unwrap())
+        let window = Window::new(ramp, 1.0, 2.0).unwrap();
+        let boxed: Box<dyn Torque + Send> =
+            Box::new(Window::new(BodyFixed::new(Vector3::z()).unwrap(), 1.0, 2.0).unwrap());
+        let sum = Sum::new()
+            .with(Window::new(BodyFixed::new(Vector3::z()).unwrap(), 1.0, 2.0).unwrap())
             .with(
-                Windowed::new(
-                    Windowed::new(
-                        BodyConstantTorque::new(Vector3::z() * 10.0).unwrap(),
-                        0.0,
-                        1.5,
-                    )
-                    .unwrap(),
+                Window::new(
+                    Window::new(BodyFixed::new(Vector3::z() * 10.0).unwrap(), 0.0, 1.5).unwrap(),
                     f64::NEG_INFINITY,
                     f64::INFINITY,
                 )
@@ -793,7 +788,7 @@ mod tests {
     /// holding the segment (moved in by one ulp), whichever side it gives the switch itself.
     #[test]
     fn closures_are_asked_only_inside_their_piece() {
-        let closure = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+        let closure = Function::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
             Ok(Vector3::new(0.0, 0.0, t))
         })
         .with_discontinuities(vec![2.0, 1.0]);
@@ -810,7 +805,7 @@ mod tests {
             1.0f64.next_down()
         );
         // Without declared discontinuities, the stage time as it is.
-        let smooth = FnTorque::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+        let smooth = Function::new(|t: f64, _: &Vector3<f64>, _: &UnitQuaternion<f64>| {
             Ok(Vector3::new(0.0, 0.0, t))
         });
         assert_eq!(on_at(&smooth, inside, 2.5), 2.5);

@@ -1,7 +1,7 @@
 //! The torque-free motion of a rigid body in closed form.
 //!
 //! Euler's equations in principal axes, `I1 w1' + (I3 - I2) w2 w3 = 0` and cyclic, with the
-//! attitude `q' = q (x) (0, w) / 2` (body to space). For body angular momentum `m = I w`,
+//! orientation `q' = q (x) (0, w) / 2` (body to space). For body angular momentum `m = I w`,
 //! `G = |m|`, `2T = sum m_i^2 / I_i` and `Delta_j = G^2 - 2 T I_j` (computed without
 //! cancellation, in double-double):
 //!
@@ -17,7 +17,7 @@
 //! - on the separatrix `Delta_2 = 0` (canonical frame with `p` the largest moment):
 //!   `m1 = s1 B1 sech u`, `m2 = s2 G tanh u`, `m3 = s3 B3 sech u` with independent
 //!   `s1 = sign m1(0)`, `s3 = sign m3(0)` and `s2 = s1 s3`;
-//! - attitude: z-x-z Euler angles with space z along `L` and body polar axis `z` = canonical
+//! - orientation: z-x-z Euler angles with space z along `L` and body polar axis `z` = canonical
 //!   axis 1 or 3 (neither is ever reached by `m` off the steady states), `cos theta = m_z / G`,
 //!   `tan psi = m_x / m_y`, `phi' = G (m_x^2/I_x + m_y^2/I_y)/(m_x^2 + m_y^2)`. With `x` the
 //!   other of the two (3 or 1) and `2` the intermediate axis,
@@ -75,7 +75,7 @@ pub enum Regime {
 pub struct FreeRotation {
     moments: Vector3<f64>,
     omega0: Vector3<f64>,
-    attitude0: UnitQuaternion<f64>,
+    orientation0: UnitQuaternion<f64>,
     energy: f64,
     momentum: f64,
     regime: Regime,
@@ -148,7 +148,7 @@ impl Frame {
     }
 }
 
-/// Shared by the elliptic and separatrix motions: the frames, scales and the attitude at 0.
+/// Shared by the elliptic and separatrix motions: the frames, scales and the orientation at 0.
 #[derive(Debug, Clone)]
 struct Common {
     frame: Frame,
@@ -247,16 +247,16 @@ fn norm_dd(v: &Vector3<f64>) -> Dd {
 
 impl FreeRotation {
     /// The motion with principal `moments` (any order, `> 0`, equal ones allowed), body angular
-    /// velocity `omega0` and attitude `attitude0` (body to space) at `t = 0`.
+    /// velocity `omega0` and orientation `orientation0` (body to space) at `t = 0`.
     ///
     /// # Errors
     /// [`Error::NonFinite`] or [`Error::NonPositive`] for a bad moment, [`Error::NonFinite`]
     /// for a non-finite `omega0` component, [`Error::InvalidArgument`] for a non-finite
-    /// attitude or momenta/rates outside the range of doubles.
+    /// orientation or momenta/rates outside the range of doubles.
     pub fn new(
         moments: Vector3<f64>,
         omega0: Vector3<f64>,
-        attitude0: UnitQuaternion<f64>,
+        orientation0: UnitQuaternion<f64>,
     ) -> Result<Self> {
         // The names are formatted only on failure: this runs once per body of a batch.
         for i in 0..3 {
@@ -267,12 +267,12 @@ impl FreeRotation {
                 finite(&format!("omega0[{i}]"), omega0[i])?;
             }
         }
-        if !attitude0.coords.iter().all(|x| x.is_finite()) {
+        if !orientation0.coords.iter().all(|x| x.is_finite()) {
             return Err(Error::InvalidArgument {
-                name: "attitude0".into(),
+                name: "orientation0".into(),
                 reason: format!(
                     "expected a finite unit quaternion, got {:?}",
-                    attitude0.coords
+                    orientation0.coords
                 ),
             });
         }
@@ -285,11 +285,11 @@ impl FreeRotation {
         }
         let energy = 0.5 * m.dot(&omega0);
         let momentum = m.norm();
-        let (regime, motion) = Self::classify(&moments, &omega0, &m, &attitude0);
+        let (regime, motion) = Self::classify(&moments, &omega0, &m, &orientation0);
         Ok(FreeRotation {
             moments,
             omega0,
-            attitude0,
+            orientation0,
             energy,
             momentum,
             regime,
@@ -498,17 +498,17 @@ impl FreeRotation {
         }
     }
 
-    /// Body angular velocity and attitude (body to space) at time `t`.
+    /// Body angular velocity and orientation (body to space) at time `t`.
     pub fn state(&self, t: f64) -> (Vector3<f64>, UnitQuaternion<f64>) {
         match &self.motion {
             Motion::Steady { axis, rate } => (
                 self.omega0,
-                self.attitude0 * q_axis(axis, wrap(*rate * (0.5 * t))),
+                self.orientation0 * q_axis(axis, wrap(*rate * (0.5 * t))),
             ),
             Motion::Symmetric(s) => {
                 let w = s.omega(&self.omega0, t);
                 let e_s = Vector3::ith(s.axis, 1.0);
-                let q = self.attitude0
+                let q = self.orientation0
                     * q_axis(&s.m_dir, wrap(s.nutation_rate * (0.5 * t)))
                     * q_axis(&e_s, wrap(-(s.body_rate * (0.5 * t))));
                 (w, q)
@@ -573,7 +573,7 @@ impl FreeRotation {
 
     /// The angular momentum in space axes, `L = R(q0) I omega0` (constant).
     pub fn angular_momentum_space(&self) -> Vector3<f64> {
-        self.attitude0 * self.moments.component_mul(&self.omega0)
+        self.orientation0 * self.moments.component_mul(&self.omega0)
     }
 }
 

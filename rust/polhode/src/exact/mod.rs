@@ -17,11 +17,11 @@
 //! let motion = FreeRotation::new(moments, omega0, UnitQuaternion::identity()).unwrap();
 //! assert_eq!(motion.regime(), Regime::AboutAxis(2));
 //! let period = motion.period().unwrap();
-//! let (omega, attitude) = motion.state(0.5 * period);
+//! let (omega, orientation) = motion.state(0.5 * period);
 //! assert!(omega.y < -0.39); // half a period later it spins the other way round
 //! // L = R(q) I omega is constant in space.
 //! let l0 = moments.component_mul(&omega0);
-//! assert!((attitude * moments.component_mul(&omega) - l0).norm() < 1e-14);
+//! assert!((orientation * moments.component_mul(&omega) - l0).norm() < 1e-14);
 //! ```
 
 mod carlson;

@@ -97,17 +97,17 @@ impl MassProperties {
         ))
     }
 
-    /// A solid right circular cone with its base disc in the plane z = 0 centred on the z axis
-    /// and its apex at z = `height`; the centre of mass is at z = h/4. About it:
-    /// `I_z = 3/10 m r^2`, `I_x = 3/20 m r^2 + 3/80 m h^2`.
-    pub fn cone(mass: f64, radius: f64, height: f64) -> Result<Self> {
+    /// A solid right circular cone of base `radius` and `length` along the axis, with its base
+    /// disc in the plane z = 0 centred on the z axis and its apex at z = `length`; the centre
+    /// of mass is at z = L/4. About it: `I_z = 3/10 m r^2`, `I_x = 3/20 m r^2 + 3/80 m L^2`.
+    pub fn cone(mass: f64, radius: f64, length: f64) -> Result<Self> {
         positive("mass", mass)?;
         positive("radius", radius)?;
-        positive("height", height)?;
+        positive("length", length)?;
         let radial = 3.0 * mass * radius * radius / 20.0;
-        let axial = 3.0 * mass * height * height / 80.0;
+        let axial = 3.0 * mass * length * length / 80.0;
         let mut body = diagonal(mass, Vector3::new(radial, radial, axial));
-        body.center_of_mass = Vector3::new(0.0, 0.0, height / 4.0);
+        body.center_of_mass = Vector3::new(0.0, 0.0, length / 4.0);
         Ok(body)
     }
 
