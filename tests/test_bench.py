@@ -12,6 +12,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from polhode import bench
+from polhode.bench import motion
 from reference_motion import reference_motion
 
 
@@ -22,6 +23,18 @@ def test_reference_constants_are_the_30_digit_reference(name):
     w_ref, q_ref = bench.REFERENCE[name]
     np.testing.assert_allclose(w_ref, np.asarray(omega, dtype=float)[-1], rtol=0, atol=1e-16)
     np.testing.assert_allclose(q_ref, np.asarray(quat, dtype=float)[-1], rtol=0, atol=1e-16)
+
+
+def test_import_polhode_does_not_import_the_benchmarks():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, polhode, polhode.cli; "
+        "print(sorted(m for m in sys.modules if m.startswith('polhode.bench')))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
 
 
 def test_hlw_case_starts_from_the_given_angular_momentum():
@@ -39,7 +52,7 @@ def test_attitude_error_is_the_rotation_angle():
         b = a * delta
         # q and -q are one rotation.
         for sign in (1.0, -1.0):
-            err = bench._attitude_error(sign * b.as_quat(), a.as_quat())
+            err = motion._attitude_error(sign * b.as_quat(), a.as_quat())
             assert err == pytest.approx(angle, rel=1e-9, abs=1e-15)
 
 
@@ -93,21 +106,21 @@ def test_peers_integrate_the_same_motion():
     pytest.importorskip("mujoco")
     case = bench.CASES["flip"]
     skipped: list[str] = []
-    sweeps = {name: settings for name, _, settings in bench._sweeps(case, True, True, skipped)}
+    sweeps = {name: settings for name, _, settings in motion._sweeps(case, True, True, skipped)}
     assert not skipped
     reference = tuple(np.array(x) for x in bench.REFERENCE["flip"])
     # scipy's DOP853 at rtol 1e-9 and MuJoCo's RK4 at dt 0.005 are close to the reference; an
     # error in the right-hand side or in the frames would leave O(1) errors.
     run = dict(sweeps["scipy DOP853"])["rtol 1e-09"]
-    e_w, e_q = bench._errors(*run(), reference)
+    e_w, e_q = motion._errors(*run(), reference)
     assert e_w < 1e-7 and e_q < 1e-6
     run = dict(sweeps["MuJoCo RK4"])["dt 0.005"]
-    e_w, e_q = bench._errors(*run(), reference)
+    e_w, e_q = motion._errors(*run(), reference)
     assert e_w < 1e-10 and e_q < 1e-9
     # MuJoCo's Euler is first order: dt 0.02 -> 0.005 divides its error by about 4.
     euler = dict(sweeps["MuJoCo Euler"])
-    coarse = bench._errors(*euler["dt 0.02"](), reference)[0]
-    fine = bench._errors(*euler["dt 0.005"](), reference)[0]
+    coarse = motion._errors(*euler["dt 0.02"](), reference)[0]
+    fine = motion._errors(*euler["dt 0.005"](), reference)[0]
     assert 3.0 < coarse / fine < 5.0
 
 

@@ -18,6 +18,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode.invariants import angular_momentum_space, relative_drift
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -60,33 +62,28 @@ def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
     return ax
 
 
-def relative_drift(traj: Trajectory) -> dict[str, NDArray[np.float64]]:
-    """Relative errors against t[0] of T, |L| (body axes) and L in space: |L(t) - L(0)|/|L(0)|.
-
-    The space entry is missing when the trajectory has no orientation.
-    """
-    _single(traj, "drift")
-    energy = np.asarray(traj.energy, dtype=np.float64)
-    out = {"energy": np.abs(energy - energy[0]) / abs(energy[0])}
-    norm = np.linalg.norm(traj.angular_momentum_body, axis=-1)
-    out["|L| body"] = np.abs(norm - norm[0]) / norm[0]
-    if traj.angular_momentum is not None:
-        L = np.asarray(traj.angular_momentum, dtype=np.float64)
-        out["L space"] = np.linalg.norm(L - L[0], axis=-1) / np.linalg.norm(L[0])
-    return out
+#: The curves of :func:`drift`, by key of :func:`polhode.invariants.relative_drift`: the
+#: label, and the line's gid after ``"drift:"``.
+DRIFT_CURVES = {
+    "energy": ("T", "energy"),
+    "angular_momentum_norm": ("|L| (body)", "|L| body"),
+    "angular_momentum_space": ("L (space)", "L space"),
+}
 
 
 def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axes:
-    """Relative drift of the invariants against time on a log axis.
+    """Relative drift of the invariants against time on a log axis
+    (:func:`polhode.invariants.relative_drift`).
 
     Curves (in this order): T, |L| in body axes, L in space (if the trajectory has an
     orientation); values below ``floor`` (exact zeros) are drawn at the floor, shown dashed.
     """
+    _single(traj, "drift")
     errors = relative_drift(traj)
     ax = _new_axes() if ax is None else ax
-    labels = {"energy": "T", "|L| body": "|L| (body)", "L space": "L (space)"}
     for key, values in errors.items():
-        ax.semilogy(traj.t, np.maximum(values, floor), label=labels[key], gid=f"drift:{key}")
+        label, gid = DRIFT_CURVES[key]
+        ax.semilogy(traj.t, np.maximum(values, floor), label=label, gid=f"drift:{gid}")
     ax.axhline(floor, color="0.5", linestyle="--", linewidth=0.8, gid="floor")
     ax.annotate(
         f"floor {floor:.0e} (zero error)",
@@ -285,7 +282,9 @@ def herpolhode(traj: Trajectory, ax: Axes | None = None) -> Axes:
     initial omega's part in the plane; the component along L, 2T/|L|, is constant and dropped.
     """
     w = omega_space(traj)
-    basis = invariable_plane_basis(traj.angular_momentum[0], hint=w[0])
+    space = angular_momentum_space(traj)
+    assert space is not None  # omega_space has checked the orientation
+    basis = invariable_plane_basis(space[0], hint=w[0])
     xy = w @ basis[:2].T
     ax = _new_axes() if ax is None else ax
     ax.plot(xy[:, 0], xy[:, 1], color="tab:blue", linewidth=1.0, gid="herpolhode")

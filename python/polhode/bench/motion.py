@@ -1,25 +1,18 @@
-"""Speed against error: the benchmark suite behind ``polhode bench`` and ``benchmarks/``.
+"""Motion benchmarks: work-precision against the 30-digit reference, the cost to reach an
+error, invariant drift over a long run, and batch throughput.
 
-Every measurement runs polhode and its peers in the same process, alternating between them in
-each repeat so that the machine's noise falls on all alike, and keeps every repeat: tables
-quote medians with the spread. Errors of the motion are measured against :data:`REFERENCE`,
-the state at the end time computed at 30 digits by an independent exact-arithmetic Taylor
-integrator (``tests/reference_motion.py``; ``python -m benchmarks.reference_values``
-regenerates the constants and ``tests/test_bench.py`` checks them), never against another
-double-precision approximation, polhode's exact solution included.
-
-The peers are optional: scipy (a dependency), MuJoCo and trimesh (the ``bench`` extra); a
-series whose peer is not installed is left out and named in the result's ``skipped``.
+Errors of the motion are measured against :data:`REFERENCE`, the state at the end time computed
+at 30 digits by an independent exact-arithmetic Taylor integrator (``tests/reference_motion.py``;
+``python -m benchmarks.reference_values`` regenerates the constants and ``tests/test_bench.py``
+checks them), never against another double-precision approximation, polhode's exact solution
+included.
 """
 
 from __future__ import annotations
 
 import math
-import os
-import platform
-import statistics
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,57 +20,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 import polhode as ph
-
-__all__ = [
-    "CASES",
-    "Case",
-    "Point",
-    "Series",
-    "WorkPrecision",
-    "cost_at",
-    "drift",
-    "eigensolve",
-    "machine",
-    "peers",
-    "mesh",
-    "point_masses",
-    "run",
-    "throughput",
-    "work_precision",
-]
+from polhode.bench import adapters
+from polhode.bench._timing import median as _median
+from polhode.bench._timing import spread as _spread
+from polhode.invariants import relative_drift
 
 Array = NDArray[np.float64]
-
-
-def machine() -> str:
-    """One line naming the machine and the versions of polhode and numpy."""
-    cpu = platform.processor() or platform.machine()
-    return (
-        f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-        f"numpy {np.__version__}, polhode {ph.__version__}"
-    )
-
-
-def peers() -> str:
-    """The versions of the peers that are installed."""
-    import importlib.metadata as metadata
-
-    found = []
-    for name in ("scipy", "mujoco", "trimesh", "matplotlib"):
-        try:
-            found.append(f"{name} {metadata.version(name)}")
-        except metadata.PackageNotFoundError:
-            found.append(f"{name} not installed")
-    return ", ".join(found)
-
-
-def _median(seconds: Sequence[float]) -> float:
-    return float(statistics.median(seconds))
-
-
-def _spread(seconds: Sequence[float]) -> str:
-    return f"{min(seconds) * 1e3:.3g}-{max(seconds) * 1e3:.3g}"
-
 
 # --------------------------------------------------------------------------------------------
 # Work-precision: one body, torque-free, against the exact solution.
@@ -213,65 +161,6 @@ def _errors(omega: Array, quaternion: Array, reference: tuple[Array, Array]) -> 
     return e_w, _attitude_error(quaternion, q_ref)
 
 
-def _scipy_rhs(moments: Sequence[float]) -> Callable[[float, Array], Array]:
-    """Euler's equations and q' = q (0, omega) / 2 (xyzw), written as a user would in numpy."""
-    i1, i2, i3 = moments
-    a1, a2, a3 = (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3
-
-    def rhs(_t: float, y: Array) -> Array:
-        w1, w2, w3, x, yq, z, s = y
-        return 0.5 * np.array(
-            [
-                2.0 * a1 * w2 * w3,
-                2.0 * a2 * w3 * w1,
-                2.0 * a3 * w1 * w2,
-                s * w1 + yq * w3 - z * w2,
-                s * w2 + z * w1 - x * w3,
-                s * w3 + x * w2 - yq * w1,
-                -(x * w1 + yq * w2 + z * w3),
-            ]
-        )
-
-    return rhs
-
-
-def _mujoco_model(case: Case, integrator: str) -> Any:
-    """A free body with gravity off and the case's principal moments in its body axes."""
-    import mujoco
-
-    i1, i2, i3 = case.moments
-    xml = (
-        f'<mujoco><option gravity="0 0 0" integrator="{integrator}"/><worldbody><body><freejoint/>'
-        f'<inertial pos="0 0 0" mass="1" diaginertia="{i1!r} {i2!r} {i3!r}"/></body></worldbody>'
-        "</mujoco>"
-    )
-    return mujoco.MjModel.from_xml_string(xml)
-
-
-def _mujoco_runner(case: Case, integrator: str, dt: float) -> Callable[[], tuple[Array, Array]]:
-    import mujoco
-    from mujoco import rollout
-
-    model = _mujoco_model(case, integrator)
-    model.opt.timestep = dt
-    data = mujoco.MjData(model)
-    nstep = int(round(case.t_end / dt))
-    full = mujoco.mjtState.mjSTATE_FULLPHYSICS
-    size = mujoco.mj_stateSize(model, full)
-
-    def run() -> tuple[Array, Array]:
-        mujoco.mj_resetData(model, data)
-        data.qvel[3:] = case.omega0  # a free joint's angular velocity is in body axes
-        state0 = np.empty(size)
-        mujoco.mj_getState(model, data, state0, full)
-        states, _ = rollout.rollout(model, data, state0, nstep=nstep)
-        last = states[0, -1]  # time, qpos (position, wxyz quaternion), qvel (linear, angular)
-        quat_wxyz = last[4:8]
-        return last[11:14].copy(), np.array([*quat_wxyz[1:], quat_wxyz[0]])
-
-    return run
-
-
 # Sweeps: coarse to fine. A series stops at the first setting whose first call exceeds the
 # budget (the finer ones would cost more still).
 _RTOLS = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
@@ -284,7 +173,7 @@ _MUJOCO_DTS_QUICK = [0.02, 0.005]
 
 def _sweeps(
     case: Case, quick: bool, peers: bool, skipped: list[str]
-) -> list[tuple[str, bool, list[tuple[str, Callable[[], tuple[Array, Array]]]]]]:
+) -> list[tuple[str, bool, list[tuple[str, adapters.Runner]]]]:
     """(series name, is a peer, [(setting, a call returning omega and quaternion at t_end)])."""
     moments = np.array(case.moments)
     omega0 = np.array(case.omega0)
@@ -292,7 +181,7 @@ def _sweeps(
     rtols = _RTOLS_QUICK if quick else _RTOLS
     dts = _DTS_QUICK if quick else _DTS
 
-    def polhode(**kwargs: Any) -> Callable[[], tuple[Array, Array]]:
+    def polhode(**kwargs: Any) -> adapters.Runner:
         def run() -> tuple[Array, Array]:
             traj = ph.simulate(moments, omega0, span, **kwargs)
             assert traj.quaternion is not None
@@ -300,7 +189,7 @@ def _sweeps(
 
         return run
 
-    sweeps: list[tuple[str, bool, list[tuple[str, Callable[[], tuple[Array, Array]]]]]] = [
+    sweeps: list[tuple[str, bool, list[tuple[str, adapters.Runner]]]] = [
         ("polhode exact", False, [("-", polhode(method="exact"))]),
         (
             "polhode dop853",
@@ -327,35 +216,22 @@ def _sweeps(
     if not peers:
         return sweeps
 
-    from scipy.integrate import solve_ivp
+    def scipy(method: str, rtol: float) -> adapters.Runner:
+        return adapters.scipy_runner(case.moments, case.omega0, case.t_end, method, rtol)
 
-    rhs = _scipy_rhs(case.moments)
-    y0 = np.concatenate([omega0, [0.0, 0.0, 0.0, 1.0]])
-    scale = float(np.linalg.norm(omega0))
+    def mujoco(integrator: str, dt: float) -> adapters.Runner:
+        return adapters.mujoco_runner(case.moments, case.omega0, case.t_end, integrator, dt)
+
     for name in ("RK45", "DOP853", "LSODA"):
-
-        def scipy(method: str, rtol: float) -> Callable[[], tuple[Array, Array]]:
-            def run() -> tuple[Array, Array]:
-                sol = solve_ivp(
-                    rhs, (0.0, case.t_end), y0, method=method, rtol=rtol, atol=rtol * scale
-                )
-                return sol.y[:3, -1], sol.y[3:, -1]
-
-            return run
-
-        settings = [r for r in rtols if r >= 1e-12]  # scipy refuses rtol < 100 eps
+        settings = [r for r in rtols if r >= adapters.SCIPY_MIN_RTOL]
         sweeps.append(
             (f"scipy {name}", True, [(f"rtol {r:.0e}", scipy(name, r)) for r in settings])
         )
-    try:
-        import mujoco  # noqa: F401
-    except ImportError:
+    if not adapters.mujoco_installed():
         skipped.append("MuJoCo (not installed)")
         return sweeps
     mujoco_dts = _MUJOCO_DTS_QUICK if quick else _MUJOCO_DTS
-    i = sorted(case.moments)
-    if i[0] + i[1] < i[2]:
-        # MuJoCo refuses such moments (HLW's case: 1 + 2/3 < 2), and writes MUJOCO_LOG.TXT.
+    if adapters.mujoco_rejects(case.moments):  # HLW's case: 1 + 2/3 < 2
         skipped.append("MuJoCo (it rejects moments that break I1 + I2 >= I3)")
         return sweeps
     for integrator, label in (("Euler", "MuJoCo Euler"), ("RK4", "MuJoCo RK4")):
@@ -363,7 +239,7 @@ def _sweeps(
             (
                 label,
                 True,
-                [(f"dt {d:g}", _mujoco_runner(case, integrator, d)) for d in mujoco_dts],
+                [(f"dt {d:g}", mujoco(integrator, d)) for d in mujoco_dts],
             )
         )
     return sweeps
@@ -402,7 +278,7 @@ def work_precision(
         reference = (exact.omega[-1], exact.quaternion[-1])
     skipped: list[str] = []
     sweeps = _sweeps(case, quick, peers, skipped)
-    jobs: list[tuple[Series, Point, Callable[[], tuple[Array, Array]]]] = []
+    jobs: list[tuple[Series, Point, adapters.Runner]] = []
     result = WorkPrecision(case, [], skipped)
     for name, peer, settings in sweeps:
         series = Series(name, peer)
@@ -506,9 +382,14 @@ def targets(
 # Invariant drift over a long run.
 
 
+#: The keys of :attr:`Drift.errors` by key of :func:`polhode.invariants.relative_drift`.
+_DRIFT_KEYS = {"energy": "T", "angular_momentum_norm": "|L|", "angular_momentum_space": "L"}
+
+
 @dataclass
 class Drift:
-    """Relative errors of T, |L| and L in space at log-spaced times, per method."""
+    """Relative errors of T, |L| and L in space at log-spaced times, per method: ``errors[name]``
+    is keyed ``"T"``, ``"|L|"`` and ``"L"`` (:func:`polhode.invariants.relative_drift`)."""
 
     case: Case
     dt: float
@@ -552,15 +433,9 @@ def drift(
         start = time.perf_counter()
         traj = ph.simulate(case.moments, case.omega0, t, **kwargs)
         seconds[name] = time.perf_counter() - start
-        assert traj.angular_momentum is not None
-        l_body = traj.angular_momentum_body
-        l_space = traj.angular_momentum
-        norm0 = np.linalg.norm(l_space[0])
-        errors[name] = {
-            "T": np.abs(traj.energy[1:] / traj.energy[0] - 1.0),
-            "|L|": np.abs(np.linalg.norm(l_body[1:], axis=1) / norm0 - 1.0),
-            "L": np.linalg.norm(l_space[1:] - l_space[0], axis=1) / norm0,
-        }
+        drifts = relative_drift(traj)
+        # t0 itself (zero error) is left out of the log-spaced times.
+        errors[name] = {short: drifts[key][1:] for key, short in _DRIFT_KEYS.items()}
     return Drift(case, dt, steps, t[1:], errors, seconds)
 
 
@@ -647,314 +522,3 @@ def throughput(
                 rows.append((method, attitude, n, total, seconds))
     return Throughput(rows)
 
-
-# --------------------------------------------------------------------------------------------
-# Principal axes, point masses, meshes.
-
-
-@dataclass
-class Versus:
-    """polhode against a peer on the same input: times, agreement or residuals."""
-
-    title: str
-    peer: str
-    peer_seconds: list[float]
-    ours_seconds: list[float]
-    note: str
-
-    @property
-    def ratio(self) -> float:
-        return _median(self.peer_seconds) / _median(self.ours_seconds)
-
-    def table(self) -> str:
-        return (
-            f"{self.title}\n"
-            f"  {self.peer:26s} {_median(self.peer_seconds) * 1e3:10.2f} ms "
-            f"(spread {_spread(self.peer_seconds)})\n"
-            f"  {'polhode':26s} {_median(self.ours_seconds) * 1e3:10.2f} ms "
-            f"(spread {_spread(self.ours_seconds)})\n"
-            f"  polhode is {self.ratio:.1f}x faster; {self.note}"
-        )
-
-
-def _interleaved(runs: dict[str, Callable[[], Any]], repeats: int) -> tuple[dict, dict]:
-    times: dict[str, list[float]] = {name: [] for name in runs}
-    results: dict[str, Any] = {}
-    for _ in range(repeats):
-        for name, fn in runs.items():
-            start = time.perf_counter()
-            results[name] = fn()
-            times[name].append(time.perf_counter() - start)
-    return times, results
-
-
-def _worst_residual(a: Array, w: Array, v: Array) -> float:
-    r = a @ v - v * w[:, None, :]
-    return float(np.max(np.linalg.norm(r, axis=(1, 2)) / np.linalg.norm(a, axis=(1, 2))))
-
-
-def eigensolve(n: int = 1_000_000, repeats: int = 5) -> list[Versus]:
-    """The batch `polhode.principal` against `numpy.linalg.eigh` on N random symmetric tensors
-    and on N rotated diag(1, 1, 2) (every one with a double moment)."""
-    from scipy.spatial.transform import Rotation
-
-    rng = np.random.default_rng(0)
-    a = rng.normal(size=(n, 3, 3))
-    random = 0.5 * (a + a.transpose(0, 2, 1))
-    r = Rotation.random(n, random_state=rng).as_matrix()
-    degenerate = np.einsum("nij,j,nkj->nik", r, np.array([1.0, 1.0, 2.0]), r)
-    eps = np.finfo(float).eps
-    out = []
-    for label, tensors in (("random symmetric", random), ("degenerate diag(1, 1, 2)", degenerate)):
-        times, results = _interleaved(
-            {
-                "eigh": lambda t=tensors: np.linalg.eigh(t),
-                "polhode": lambda t=tensors: tuple(ph.principal(t)),
-            },
-            repeats,
-        )
-        res = {k: _worst_residual(tensors, *results[k][:2]) / eps for k in results}
-        out.append(
-            Versus(
-                f"eigensolve, {label}, N = {n:.0e}",
-                "numpy.linalg.eigh",
-                times["eigh"],
-                times["polhode"],
-                f"worst residual {res['polhode']:.2f} eps (eigh {res['eigh']:.2f} eps)",
-            )
-        )
-    return out
-
-
-def point_masses(n: int = 10_000_000, repeats: int = 5) -> Versus:
-    """`Body.point_masses(m, r).inertia` against numpy: centre, centred second moments,
-    inertia tensor."""
-    rng = np.random.default_rng(1)
-    m = rng.uniform(0.5, 2.0, n)
-    r = rng.normal(size=(n, 3)) * [1.0, 2.0, 3.0]
-
-    def numpy_reference() -> Array:
-        com = m @ r / m.sum()
-        d = r - com
-        c = (d * m[:, None]).T @ d
-        return np.trace(c) * np.eye(3) - c
-
-    times, results = _interleaved(
-        {"numpy": numpy_reference, "polhode": lambda: ph.Body.point_masses(m, r).inertia},
-        repeats,
-    )
-    diff = np.abs(results["numpy"] - results["polhode"]).max() / np.abs(results["numpy"]).max()
-    return Versus(
-        f"point-mass assembly, N = {n:.0e}",
-        "numpy reference",
-        times["numpy"],
-        times["polhode"],
-        f"agreement {diff:.1e} relative",
-    )
-
-
-def mesh(subdivisions: int = 7, repeats: int = 11) -> Versus | None:
-    """`Body.mesh` (with its closedness and winding check) against trimesh's
-    `triangles.mass_properties` on an icosphere of 20 * 4^S triangles; None without trimesh."""
-    try:
-        import trimesh
-    except ImportError:
-        return None
-    sphere = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
-    vertices = np.round(np.asarray(sphere.vertices) * 2.0**24) / 2.0**24
-    faces = np.ascontiguousarray(sphere.faces, dtype=np.int64)
-    triangles = vertices[faces]
-    times, results = _interleaved(
-        {
-            "trimesh": lambda: trimesh.triangles.mass_properties(triangles, density=1.0),
-            "polhode": lambda: ph.Body.mesh(vertices, faces, density=1.0),
-        },
-        repeats,
-    )
-    theirs = results["trimesh"].inertia
-    agree = np.linalg.norm(results["polhode"].inertia - theirs) / np.linalg.norm(theirs)
-    return Versus(
-        f"triangle mesh, icosphere of {len(faces):,} triangles",
-        f"trimesh {trimesh.__version__}",
-        times["trimesh"],
-        times["polhode"],
-        f"agreement {agree:.1e} relative",
-    )
-
-
-# --------------------------------------------------------------------------------------------
-# The quick suite (``polhode bench``).
-
-
-def run(
-    quick: bool = True, repeats: int | None = None, print_: Callable[[str], Any] = print
-) -> None:
-    """Runs the suite and prints its tables: work-precision on the flip case with the ratios at
-    matching error, batch throughput, eigensolve, point masses and (with trimesh) meshes.
-    ``quick`` keeps it under a minute."""
-    repeats = (3 if quick else 5) if repeats is None else repeats
-    print_(f"# polhode bench{' --quick' if quick else ''} ({machine()})")
-    print_(f"# peers: {peers()}\n")
-    wp = work_precision("flip", quick=quick, repeats=repeats, budget=1.0 if quick else 3.0)
-    print_("## Work-precision, one body, torque-free, errors against the exact solution")
-    print_(wp.table())
-    for which in ("omega", "attitude"):
-        print_(
-            f"\nCost to reach each error of the {which} (ms, interpolated), and how many times "
-            "faster polhode is:"
-        )
-        print_(targets(wp, which=which))
-    sizes = (1, 100, 10_000, 100_000) if quick else (1, 10, 100, 1_000, 10_000, 100_000, 10**6)
-    print_("\n## Batch throughput on all cores")
-    tp = throughput(
-        sizes=sizes,
-        methods=("rk4", "exact") if quick else ("rk4", "splitting", "midpoint", "dop853", "exact"),
-        work=2e6 if quick else 2e7,
-        repeats=repeats,
-    )
-    print_(tp.table())
-    print_("\n## Mass properties")
-    for v in eigensolve(100_000 if quick else 1_000_000, repeats):
-        print_(v.table())
-    print_(point_masses(1_000_000 if quick else 10_000_000, repeats).table())
-    m = mesh(5 if quick else 7, repeats)
-    print_("(trimesh not installed: mesh comparison left out)" if m is None else m.table())
-
-
-# --------------------------------------------------------------------------------------------
-# Far from the origin: the mesh integrals against trimesh.
-
-
-def mesh_offset(subdivisions: int = 5, exponents: Sequence[int] = range(0, 9)) -> str:
-    """The icosphere (vertices on a 2^-24 grid, so that the shift is exact) moved by
-    d (1, -0.5, 0.25): the relative error of the inertia about the centre of mass against the
-    unmoved mesh, for polhode and for trimesh (if installed)."""
-    try:
-        import trimesh
-    except ImportError:
-        return "(trimesh not installed: far-offset comparison left out)"
-    sphere = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
-    vertices = np.round(np.asarray(sphere.vertices) * 2.0**24) / 2.0**24
-    faces = np.ascontiguousarray(sphere.faces, dtype=np.int64)
-    base = ph.Body.mesh(vertices, faces, density=1.0).inertia
-    lines = [f"{'d':>6s} {'polhode':>10s} {'trimesh':>10s}"]
-    for exponent in exponents:
-        d = 10.0**exponent
-        moved = vertices + np.array([d, -0.5 * d, 0.25 * d])
-        ours = ph.Body.mesh(moved, faces, density=1.0).inertia
-        theirs = trimesh.triangles.mass_properties(moved[faces], density=1.0).inertia
-        err = [np.linalg.norm(x - base) / np.linalg.norm(base) for x in (ours, theirs)]
-        lines.append(f"1e{exponent:<4d} {err[0]:10.2e} {err[1]:10.2e}")
-    return "\n".join(lines)
-
-
-# --------------------------------------------------------------------------------------------
-# Plots (matplotlib, the ``plot`` or ``bench`` extra), written to PNG files.
-
-_STYLE = {
-    "polhode exact": ("k", "*"),
-    "polhode dop853": ("C0", "o"),
-    "polhode rk4": ("C1", "o"),
-    "polhode splitting 2": ("C2", "v"),
-    "polhode splitting 4": ("C2", "o"),
-    "polhode splitting 6": ("C2", "^"),
-    "polhode midpoint": ("C4", "o"),
-    "scipy RK45": ("C3", "s"),
-    "scipy DOP853": ("C3", "D"),
-    "scipy LSODA": ("C3", "x"),
-    "MuJoCo Euler": ("C5", "s"),
-    "MuJoCo RK4": ("C5", "D"),
-}
-
-
-def _figure(ncols: int = 1, width: float = 6.4) -> tuple[Any, Any]:
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, 4.8), squeeze=False)
-    return fig, axes[0]
-
-
-def _save(fig: Any, path: str) -> str:
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
-
-
-def plot_work_precision(result: WorkPrecision, path: str, floor: float = 1e-17) -> str:
-    """Two log-log panels (error of omega, error of the attitude) against the median wall time
-    of the whole call, one line per series; polhode solid, peers dashed."""
-    fig, axes = _figure(2)
-    for ax, which, label in zip(
-        axes,
-        ("omega", "attitude"),
-        ("relative error of omega at t_end", "attitude error at t_end (rad)"),
-        strict=True,
-    ):
-        for s in result.series:
-            if not s.points:
-                continue
-            x = np.array([p.median for p in s.points])
-            y = np.maximum([p.error(which) for p in s.points], floor)
-            color, marker = _STYLE.get(s.name, (None, "o"))
-            ax.loglog(
-                x,
-                y,
-                marker=marker,
-                color=color,
-                linestyle="--" if s.peer else "-",
-                label=s.name,
-                markersize=5,
-            )
-        ax.set_xlabel("wall time of the call (s)")
-        ax.set_ylabel(label)
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_title(result.case.label, fontsize=9, loc="left")
-    axes[1].legend(fontsize=7, loc="upper right", ncol=2)
-    return _save(fig, path)
-
-
-def plot_drift(result: Drift, path: str, floor: float = 1e-17) -> str:
-    """Three log-log panels: relative error of T, of |L| and of L in space against time."""
-    fig, axes = _figure(3, width=4.6)
-    for ax, key, label in zip(
-        axes, ("T", "|L|", "L"), ("energy T", "|L|", "L in space"), strict=True
-    ):
-        for name, errors in result.errors.items():
-            ax.loglog(result.t, np.maximum(errors[key], floor), label=name, linewidth=1)
-        ax.set_xlabel("t")
-        ax.set_title(f"relative error of {label}", fontsize=10)
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=7)
-    return _save(fig, path)
-
-
-def plot_throughput(result: Throughput, path: str) -> str:
-    """Body-steps (or exact evaluations) per second against N, log-log, with and without
-    orientation."""
-    fig, axes = _figure(1)
-    ax = axes[0]
-    methods = list(dict.fromkeys(row[0] for row in result.rows))
-    for k, method in enumerate(methods):
-        for attitude in (True, False):
-            rate = result.rate(method, attitude)
-            if not rate:
-                continue
-            ax.loglog(
-                list(rate),
-                list(rate.values()),
-                color=f"C{k}",
-                linestyle="-" if attitude else ":",
-                marker="o",
-                label=f"{method} ({'with' if attitude else 'no'} orientation)",
-            )
-    ax.set_xlabel("N bodies")
-    ax.set_ylabel("body-steps per second (exact: evaluations per second)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    return _save(fig, path)

@@ -1,0 +1,176 @@
+"""The peers, called as their own users would call them: scipy's ``solve_ivp`` on Euler's
+equations and the quaternion, MuJoCo's free body, numpy's point-mass inertia and trimesh's mesh
+integrals. What each returns is in polhode's conventions: omega in body axes, the body-to-space
+attitude as a scalar-last (x, y, z, w) quaternion.
+
+scipy is a dependency; MuJoCo and trimesh are optional (the ``bench`` extra) and are imported
+inside the functions that need them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.float64]
+
+#: A call returning omega and the xyzw quaternion at the end time.
+Runner = Callable[[], tuple[Array, Array]]
+
+
+# --------------------------------------------------------------------------------------------
+# scipy
+
+
+def euler_rhs(moments: Sequence[float]) -> Callable[[float, Array], Array]:
+    """Euler's equations and q' = q (0, omega) / 2 (xyzw), written as a user would in numpy."""
+    i1, i2, i3 = moments
+    a1, a2, a3 = (i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3
+
+    def rhs(_t: float, y: Array) -> Array:
+        w1, w2, w3, x, yq, z, s = y
+        return 0.5 * np.array(
+            [
+                2.0 * a1 * w2 * w3,
+                2.0 * a2 * w3 * w1,
+                2.0 * a3 * w1 * w2,
+                s * w1 + yq * w3 - z * w2,
+                s * w2 + z * w1 - x * w3,
+                s * w3 + x * w2 - yq * w1,
+                -(x * w1 + yq * w2 + z * w3),
+            ]
+        )
+
+    return rhs
+
+
+#: scipy refuses rtol below 100 eps.
+SCIPY_MIN_RTOL = 1e-12
+
+
+def scipy_runner(
+    moments: Sequence[float], omega0: Sequence[float], t_end: float, method: str, rtol: float
+) -> Runner:
+    """``solve_ivp`` with ``method`` from identity attitude, ``atol = rtol |omega0|``."""
+    from scipy.integrate import solve_ivp
+
+    rhs = euler_rhs(moments)
+    w0 = np.asarray(omega0, dtype=np.float64)
+    y0 = np.concatenate([w0, [0.0, 0.0, 0.0, 1.0]])
+    scale = float(np.linalg.norm(w0))
+
+    def run() -> tuple[Array, Array]:
+        sol = solve_ivp(rhs, (0.0, t_end), y0, method=method, rtol=rtol, atol=rtol * scale)
+        return sol.y[:3, -1], sol.y[3:, -1]
+
+    return run
+
+
+# --------------------------------------------------------------------------------------------
+# MuJoCo
+
+
+def mujoco_installed() -> bool:
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def mujoco_rejects(moments: Sequence[float]) -> bool:
+    """MuJoCo refuses moments that break I1 + I2 >= I3 (and writes MUJOCO_LOG.TXT)."""
+    i = sorted(moments)
+    return i[0] + i[1] < i[2]
+
+
+def mujoco_model(moments: Sequence[float], integrator: str) -> Any:
+    """A free body with gravity off and these principal moments in its body axes."""
+    import mujoco
+
+    i1, i2, i3 = moments
+    xml = (
+        f'<mujoco><option gravity="0 0 0" integrator="{integrator}"/><worldbody><body><freejoint/>'
+        f'<inertial pos="0 0 0" mass="1" diaginertia="{i1!r} {i2!r} {i3!r}"/></body></worldbody>'
+        "</mujoco>"
+    )
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def mujoco_runner(
+    moments: Sequence[float], omega0: Sequence[float], t_end: float, integrator: str, dt: float
+) -> Runner:
+    """``round(t_end / dt)`` steps of ``integrator`` with ``mujoco.rollout``, from identity
+    attitude."""
+    import mujoco
+    from mujoco import rollout
+
+    model = mujoco_model(moments, integrator)
+    model.opt.timestep = dt
+    data = mujoco.MjData(model)
+    nstep = int(round(t_end / dt))
+    full = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    size = mujoco.mj_stateSize(model, full)
+
+    def run() -> tuple[Array, Array]:
+        mujoco.mj_resetData(model, data)
+        data.qvel[3:] = omega0  # a free joint's angular velocity is in body axes
+        state0 = np.empty(size)
+        mujoco.mj_getState(model, data, state0, full)
+        states, _ = rollout.rollout(model, data, state0, nstep=nstep)
+        last = states[0, -1]  # time, qpos (position, wxyz quaternion), qvel (linear, angular)
+        quat_wxyz = last[4:8]
+        return last[11:14].copy(), np.array([*quat_wxyz[1:], quat_wxyz[0]])
+
+    return run
+
+
+# --------------------------------------------------------------------------------------------
+# numpy
+
+
+def point_mass_inertia(m: Array, r: Array) -> Array:
+    """The inertia tensor of point masses about their centre, written as a user would in numpy:
+    centre, centred second moments, tr(C) 1 - C."""
+    com = m @ r / m.sum()
+    d = r - com
+    c = (d * m[:, None]).T @ d
+    return np.trace(c) * np.eye(3) - c
+
+
+# --------------------------------------------------------------------------------------------
+# trimesh
+
+
+def trimesh_version() -> str | None:
+    """trimesh's version, None if it is not installed."""
+    try:
+        import trimesh
+    except ImportError:
+        return None
+    return str(trimesh.__version__)
+
+
+def icosphere(subdivisions: int) -> tuple[Array, NDArray[np.int64]] | None:
+    """trimesh's unit icosphere of 20 * 4^S triangles, its vertices rounded to a 2^-24 grid (so
+    that the shifts of :func:`polhode.bench.mass.mesh_offset` are exact); None without
+    trimesh."""
+    try:
+        import trimesh
+    except ImportError:
+        return None
+    sphere = trimesh.creation.icosphere(subdivisions=subdivisions, radius=1.0)
+    vertices = np.round(np.asarray(sphere.vertices) * 2.0**24) / 2.0**24
+    faces = np.ascontiguousarray(sphere.faces, dtype=np.int64)
+    return vertices, faces
+
+
+def trimesh_mass_properties(triangles: Array) -> Any:
+    """``trimesh.triangles.mass_properties`` at density 1 (its ``.inertia`` is about the centre
+    of mass)."""
+    import trimesh
+
+    return trimesh.triangles.mass_properties(triangles, density=1.0)

@@ -1,0 +1,77 @@
+"""The drift of the invariants of a torque-free motion: kinetic energy T, |L| and L in space.
+
+Every place in polhode that reports how well a trajectory keeps its invariants (``plot.drift``,
+the command line, the benchmarks) computes it here.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["angular_momentum_space", "max_relative_drift", "relative_drift"]
+
+Array = NDArray[np.float64]
+
+
+def angular_momentum_space(traj: Any) -> Array | None:
+    """The angular momentum in space axes, (..., M, 3), or None without orientation.
+
+    The one place that reads it off a trajectory, under either name of the field
+    (``angular_momentum_space``, else ``angular_momentum``).
+    """
+    value = getattr(traj, "angular_momentum_space", None)
+    if value is None:
+        value = getattr(traj, "angular_momentum", None)
+    return None if value is None else np.asarray(value, dtype=np.float64)
+
+
+def _against_first(error: Array, first: Array) -> Array:
+    """``error / |first|``, or ``error`` itself where ``first`` is zero."""
+    scale = np.abs(first)
+    return error / np.where(scale == 0.0, 1.0, scale)
+
+
+def relative_drift(traj: Any) -> dict[str, Array]:
+    """The error of each invariant against its value at the first output time, per output time.
+
+    Parameters
+    ----------
+    traj : a :class:`polhode.Trajectory`, one body (M output times) or a batch (N, M); any
+        object with ``energy`` (..., M), ``angular_momentum_body`` (..., M, 3) and the space
+        angular momentum (..., M, 3) or None (see :func:`angular_momentum_space`) will do.
+
+    Returns
+    -------
+    dict of (..., M) float arrays, 0 at the first output time:
+
+    ``"energy"``
+        |T(t) - T(t0)| / |T(t0)|.
+    ``"angular_momentum_norm"``
+        ||L(t)| - |L(t0)|| / |L(t0)|, with L in body axes (the norm is the same in space).
+    ``"angular_momentum_space"``
+        |L(t) - L(t0)| / |L(t0)|, the vector in space axes (left out without orientation).
+
+    Where the value at t0 is zero (a body at rest: T, |L| and L are all zero), dividing by it
+    means nothing, and the entry is the absolute error instead (the numerator alone); in a
+    batch this is decided body by body.
+    """
+    energy = np.asarray(traj.energy, dtype=np.float64)
+    out = {"energy": _against_first(np.abs(energy - energy[..., :1]), energy[..., :1])}
+    norm = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
+    out["angular_momentum_norm"] = _against_first(np.abs(norm - norm[..., :1]), norm[..., :1])
+    space = angular_momentum_space(traj)
+    if space is not None:
+        first = space[..., :1, :]
+        out["angular_momentum_space"] = _against_first(
+            np.linalg.norm(space - first, axis=-1), np.linalg.norm(first, axis=-1)
+        )
+    return out
+
+
+def max_relative_drift(traj: Any) -> dict[str, float]:
+    """The largest entry of each array of :func:`relative_drift`: over the output times, and
+    over the bodies of a batch (NaN if any entry is NaN)."""
+    return {key: float(np.max(values)) for key, values in relative_drift(traj).items()}
