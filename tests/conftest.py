@@ -157,7 +157,7 @@ def solid_specs(draw):
             [
                 "sphere",
                 "spherical_shell",
-                "box",
+                "cuboid",
                 "cylinder",
                 "tube",
                 "cone",
@@ -172,7 +172,7 @@ def solid_specs(draw):
     mass = draw(positive)
     if name in ("sphere", "spherical_shell", "rod", "disk"):
         params = (draw(positive),)
-    elif name in ("box", "ellipsoid"):
+    elif name in ("cuboid", "ellipsoid"):
         params = ((draw(positive), draw(positive), draw(positive)),)
     elif name in ("cylinder", "capsule", "cone"):
         params = (draw(positive), draw(positive))

@@ -148,7 +148,7 @@ def spherical_shell(mass, radius) -> MassProperties:
     return _diag(mass, (0, 0, 0), i, i, i)
 
 
-def box(mass, size) -> MassProperties:
+def cuboid(mass, size) -> MassProperties:
     """Box with full edges (a, b, c): I_x = m (b^2 + c^2) / 12, cyclic."""
     a, b, c = (float(s) for s in size)
     return _diag(
@@ -236,7 +236,7 @@ def capsule(mass, radius, length) -> MassProperties:
 SOLIDS = {
     "sphere": sphere,
     "spherical_shell": spherical_shell,
-    "box": box,
+    "cuboid": cuboid,
     "cylinder": cylinder,
     "tube": tube,
     "cone": cone,
@@ -298,7 +298,7 @@ def quadrature_cloud(shape: str, mass: float, *params, n: int = 6):
     averages), with the total weight normalised to ``mass``. Independent of the closed forms:
     it only encodes each body's geometry.
     """
-    if shape == "box":
+    if shape == "cuboid":
         nodes = [_gauss(-s / 2, s / 2, n) for s in params[0]]
         grids = np.meshgrid(*[x for x, _ in nodes], indexing="ij")
         weights = np.einsum("i,j,k->ijk", *[w for _, w in nodes])
@@ -636,3 +636,48 @@ def euler_omega(moments, omega0, times):
         atol=1e-16,
     )
     return sol.y.T
+
+
+def rotate_by_quaternion(q, v):
+    """v rotated by the unit quaternion q = (x, y, z, w): R(q) v."""
+    x, y, z, w = q
+    u = np.array([x, y, z])
+    v = np.asarray(v, dtype=float)
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def rigid_body(inertia, omega0, quaternion0, times, torque, breaks=(), rtol=1e-12):
+    """Euler's equations in the body's own axes with the full inertia tensor (not principal
+    axes), ``I w' = tau(t, w, q) - w x (I w)`` and ``q' = q (x) (0, w) / 2`` (body to space,
+    scalar-last), by scipy's DOP853, restarted at ``breaks`` (the torque's jumps; within a
+    piece the torque is asked for times strictly inside it).
+
+    ``torque(t, w, q)`` gives the torque in body axes. Returns omega (M, 3) and the unit
+    quaternion (M, 4). Independent of polhode: no principal axes.
+    """
+    from scipy.integrate import solve_ivp
+
+    inertia = np.asarray(inertia, dtype=float)
+    inverse = np.linalg.inv(inertia)
+    times = np.asarray(times, dtype=float)
+    y = np.concatenate([np.asarray(omega0, float), np.asarray(quaternion0, float)])
+    edges = [0.0, *sorted(b for b in breaks if 0.0 < b < times[-1]), float(times[-1])]
+    out = np.empty((times.size, 7))
+    out[times == 0.0] = y
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        lo, hi = np.nextafter(a, b), np.nextafter(b, a)
+
+        def rhs(t, y, lo=lo, hi=hi):
+            w, q = y[:3], y[3:] / np.linalg.norm(y[3:])
+            tau = np.asarray(torque(min(max(t, lo), hi), w, q), dtype=float)
+            dw = inverse @ (tau - np.cross(w, inertia @ w))
+            dq = 0.5 * qmul(y[3:], np.array([w[0], w[1], w[2], 0.0]))
+            return np.concatenate([dw, dq])
+
+        sol = solve_ivp(rhs, (a, b), y, method="DOP853", rtol=rtol, atol=rtol * 1e-3,
+                        dense_output=True)
+        inside = (times > a) & (times <= b)
+        out[inside] = sol.sol(times[inside]).T
+        y = sol.y[:, -1]
+    q = out[:, 3:] / np.linalg.norm(out[:, 3:], axis=1)[:, None]
+    return out[:, :3], q

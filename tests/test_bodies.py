@@ -23,8 +23,8 @@ from reference import EPS
 SOLID_CASES = [
     ("sphere", 2.7, (1.3,)),
     ("spherical_shell", 0.7, (0.7,)),
-    ("box", 2.7, ((0.3, 1.1, 2.5),)),
-    ("box", 5.0, ((1.0, 1.0, 1.0),)),
+    ("cuboid", 2.7, ((0.3, 1.1, 2.5),)),
+    ("cuboid", 5.0, ((1.0, 1.0, 1.0),)),
     ("cylinder", 2.0, (0.1, 0.5)),
     ("cylinder", 3.0, (2.0, 0.1)),
     ("tube", 1.7, (0.3, 0.5, 1.2)),
@@ -179,11 +179,11 @@ def test_rod_has_exactly_zero_axial_moment_and_disk_is_planar():
 
 
 def test_inputs_accept_ints_lists_and_numpy_scalars():
-    a = ph.Body.box(2, [1, 2, 3])
-    b = ph.Body.box(np.float32(2.0), np.array([1.0, 2.0, 3.0], dtype=np.float32))
-    c = ph.Body.box(np.float64(2.0), (1.0, 2.0, 3.0))
+    a = ph.Body.cuboid(2, [1, 2, 3])
+    b = ph.Body.cuboid(np.float32(2.0), np.array([1.0, 2.0, 3.0], dtype=np.float32))
+    c = ph.Body.cuboid(np.float64(2.0), (1.0, 2.0, 3.0))
     for body in (a, b, c):
-        assert_close_normwise(body.inertia, ref.box(2.0, (1, 2, 3)).inertia, 1e-14)
+        assert_close_normwise(body.inertia, ref.cuboid(2.0, (1, 2, 3)).inertia, 1e-14)
     cloud = ph.Body.point_masses([1, 2], [[0, 0, 0], [1, 0, 0]])
     assert cloud.mass == 3.0
     assert np.asarray(cloud.inertia).dtype == np.float64
@@ -300,7 +300,7 @@ def test_water_principal_frame_is_exactly_the_textbook_one():
 def test_cube_about_a_corner(mass, a):
     # I about a corner of a uniform cube: M a^2 [[2/3, -1/4, -1/4], ...]; moments
     # M a^2 (1/6, 11/12, 11/12), the unique (smallest) axis along the body diagonal.
-    cube = ph.Body.box(mass, (a, a, a))
+    cube = ph.Body.cuboid(mass, (a, a, a))
     corner = -0.5 * a * np.ones(3)
     expected = mass * a * a * (np.full((3, 3), -0.25) + np.eye(3) * (2 / 3 + 0.25))
     at_corner = cube.inertia_about(corner)
@@ -351,7 +351,9 @@ def _test_bodies():
     cloud = ph.Body.point_masses(masses, positions)
     composite = ph.Body.cylinder(2.0, 0.3, 1.5).rotated(
         Rotation.from_rotvec([0.3, -0.2, 0.9])
-    ).translated([1.0, 2.0, -0.5]) + ph.Body.box(1.0, (0.2, 0.4, 0.8)).translated([-1.0, 0.5, 0.3])
+    ).translated([1.0, 2.0, -0.5]) + ph.Body.cuboid(1.0, (0.2, 0.4, 0.8)).translated(
+        [-1.0, 0.5, 0.3]
+    )
     return [("cloud", cloud, (masses, positions)), ("composite", composite, None)]
 
 
@@ -419,7 +421,7 @@ def test_planar_bodies_have_i3_equal_i1_plus_i2(seed):
 
 
 def test_translated_moves_only_the_centre_of_mass():
-    body = ph.Body.box(2.0, (1.0, 2.0, 3.0)).rotated(Rotation.from_rotvec([0.1, 0.2, 0.3]))
+    body = ph.Body.cuboid(2.0, (1.0, 2.0, 3.0)).rotated(Rotation.from_rotvec([0.1, 0.2, 0.3]))
     moved = body.translated([1.0, -2.0, 3.5])
     np.testing.assert_allclose(
         moved.center_of_mass, body.center_of_mass + [1.0, -2.0, 3.5], rtol=0, atol=4 * EPS * 3.5
@@ -445,8 +447,9 @@ def test_rotation_convention_maps_body_points_forward():
 
 def test_rotation_forms_agree():
     rotation = Rotation.from_rotvec([0.4, -1.1, 0.7])
-    body = ph.Body.box(2.0, (0.5, 1.0, 3.0)).translated([1.0, 2.0, 3.0])
-    expected = ref.rotate(ref.translate(ref.box(2.0, (0.5, 1.0, 3.0)), [1.0, 2.0, 3.0]), rotation)
+    body = ph.Body.cuboid(2.0, (0.5, 1.0, 3.0)).translated([1.0, 2.0, 3.0])
+    moved = ref.translate(ref.cuboid(2.0, (0.5, 1.0, 3.0)), [1.0, 2.0, 3.0])
+    expected = ref.rotate(moved, rotation)
     for form in (
         rotation,
         rotation.as_matrix(),
@@ -474,7 +477,7 @@ def test_moved_cloud_matches_exact_reference(rng):
 
 def test_inertia_about_with_axes_follows_a_transpose_i_a():
     # The columns of `axes` are the new axes in body coordinates: A^T I_point A.
-    body = ph.Body.box(2.0, (1.0, 2.0, 3.0))
+    body = ph.Body.cuboid(2.0, (1.0, 2.0, 3.0))
     quarter = Rotation.from_euler("z", 90, degrees=True)  # new x = body y, new y = -body x
     i = np.asarray(body.inertia)
     turned = body.inertia_about(body.center_of_mass, axes=quarter)
@@ -496,7 +499,7 @@ def test_angular_momentum_and_kinetic_energy():
     body = ph.Body.ellipsoid(3.0, (1.0, 2.0, 3.0)).rotated(rotation).translated([1.0, 1.0, 1.0])
     omega = np.array([0.3, -1.2, 2.5])
     i = np.asarray(body.inertia)
-    momentum = np.asarray(body.angular_momentum(omega))
+    momentum = np.asarray(body.angular_momentum_body(omega))
     assert momentum.shape == (3,) and momentum.dtype == np.float64
     # L = I w: 3 products per component, 8 eps of ||I|| |w|.
     assert_close_normwise(momentum, i @ omega, 8 * EPS, scale=norm2(i) * norm2(omega))
@@ -603,7 +606,7 @@ def test_inertia_is_exactly_symmetric():
     rotation = Rotation.from_rotvec([0.7, -0.3, 1.9])
     rng = np.random.default_rng(11)
     bodies = [
-        ph.Body.box(2.0, (1.0, 2.0, 3.0)).rotated(rotation),
+        ph.Body.cuboid(2.0, (1.0, 2.0, 3.0)).rotated(rotation),
         ph.Body.point_masses(rng.uniform(0.1, 1.0, 9), rng.normal(size=(9, 3))),
         ph.Body.cone(1.0, 0.5, 2.0).rotated(rotation) + ph.Body.torus(2.0, 1.0, 0.2),
         ph.Body.from_inertia(

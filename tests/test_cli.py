@@ -84,7 +84,7 @@ def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
     )
     assert code == 0
     out = capsys.readouterr().out
-    # Independent period: L^2 > 2 T I2 here (L circulates about axis 3), so with
+    # Independent period: L^2 > 2 T I2 here (L circulates about the largest axis), so with
     # Delta_j = L^2 - 2 T I_j: T = 4 K(k^2) / lambda, lambda = sqrt(Delta_1 (I3 - I2) / (I1 I2 I3)),
     # k^2 = (I2 - I1)(-Delta_3) / ((I3 - I2) Delta_1).
     i = np.array([1.0, 2.0, 3.0])

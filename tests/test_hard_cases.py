@@ -194,7 +194,7 @@ def _pipeline(mass_scale, length_scale):
         + ph.Body.cylinder(2.0 * mass_scale, 0.3 * L, 1.5 * L)
         .rotated(rotation)
         .translated(np.array([1.0, 2.0, -0.5]) * L)
-        + ph.Body.box(1.0 * mass_scale, np.array([0.2, 0.4, 0.8]) * L).translated(
+        + ph.Body.cuboid(1.0 * mass_scale, np.array([0.2, 0.4, 0.8]) * L).translated(
             np.array([-1.0, 0.5, 0.3]) * L
         )
         + ph.Body.torus(0.7 * mass_scale, 0.5 * L, 0.1 * L).rotated(rotation.inv())

@@ -46,8 +46,10 @@ def spun_up_from_rest(alpha: float, inertia: float = 2.0):
     return energy, l_vec, l_vec, expected
 
 
-def trajectory(energy, l_body, l_space, field="angular_momentum"):
-    return SimpleNamespace(energy=energy, angular_momentum_body=l_body, **{field: l_space})
+def trajectory(energy, l_body, l_space):
+    return SimpleNamespace(
+        energy=energy, angular_momentum_body=l_body, angular_momentum_space=l_space
+    )
 
 
 def assert_drifts(got, expected):
@@ -105,16 +107,6 @@ def test_without_orientation_the_space_entry_is_left_out():
     assert angular_momentum_space(traj) is None
     assert_drifts(relative_drift(traj), expected)
     assert list(max_relative_drift(traj)) == ["energy", "angular_momentum_norm"]
-
-
-def test_either_name_of_the_space_field():
-    energy, l_body, l_space, expected = drifting_body(0.25)
-    renamed = trajectory(energy, l_body, l_space, field="angular_momentum_space")
-    assert not hasattr(renamed, "angular_momentum")
-    np.testing.assert_array_equal(angular_momentum_space(renamed), l_space)
-    assert_drifts(relative_drift(renamed), expected)
-    bare = trajectory(energy, l_body, None, field="angular_momentum_space")
-    assert "angular_momentum_space" not in relative_drift(bare)
 
 
 @pytest.mark.parametrize("orientation", [True, False])

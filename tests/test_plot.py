@@ -54,7 +54,7 @@ def test_drift(traj, tmp_path):
     ax = plot.drift(traj)
     render(ax, tmp_path / "drift.png")
     assert ax.get_yscale() == "log"
-    E, Lb, Ls = traj.energy, traj.angular_momentum_body, traj.angular_momentum
+    E, Lb, Ls = traj.energy, traj.angular_momentum_body, traj.angular_momentum_space
     expected = {
         "drift:energy": np.abs(E - E[0]) / E[0],
         "drift:|L| body": np.abs(np.sqrt((Lb**2).sum(1)) - np.sqrt((Lb[0] ** 2).sum()))
@@ -122,12 +122,12 @@ def test_herpolhode_in_invariable_plane(traj, tmp_path):
     xy = np.column_stack([line.get_xdata(), line.get_ydata()])
     # independent: omega in space from the quaternions, split along and across L(0)
     w = Rotation.from_quat(traj.quaternion).apply(traj.omega)
-    n = traj.angular_momentum[0] / np.linalg.norm(traj.angular_momentum[0])
+    n = traj.angular_momentum_space[0] / np.linalg.norm(traj.angular_momentum_space[0])
     along = w @ n
     across = w - along[:, None] * n
     # the tip of omega stays in a plane perpendicular to L: omega . n = 2T/|L| (rk4 tolerance)
     np.testing.assert_allclose(
-        along, 2 * traj.energy[0] / np.linalg.norm(traj.angular_momentum[0]), rtol=1e-6
+        along, 2 * traj.energy[0] / np.linalg.norm(traj.angular_momentum_space[0]), rtol=1e-6
     )
     # the plotted points are the in-plane components (basis-independent: norms and angles)
     np.testing.assert_allclose(

@@ -145,7 +145,7 @@ def test_batch_equals_per_matrix_results(rng):
     [
         (ph.Body.sphere(2.0, 1.0), (3, 3, 3), (E_X, E_Y, E_Z)),
         (ph.Body.spherical_shell(2.0, 1.0), (3, 3, 3), (E_X, E_Y, E_Z)),
-        (ph.Body.box(2.0, (1.0, 1.0, 1.0)), (3, 3, 3), (E_X, E_Y, E_Z)),
+        (ph.Body.cuboid(2.0, (1.0, 1.0, 1.0)), (3, 3, 3), (E_X, E_Y, E_Z)),
         # long cylinder: I_z smallest -> (e_z, e_x, e_y) as in the contract
         (ph.Body.cylinder(2.0, 0.1, 0.5), (1, 2, 2), (E_Z, E_X, E_Y)),
         (ph.Body.rod(2.0, 1.0), (1, 2, 2), (E_Z, E_X, E_Y)),
@@ -155,14 +155,14 @@ def test_batch_equals_per_matrix_results(rng):
         (ph.Body.disk(2.0, 1.0), (2, 2, 1), (E_X, E_Y, E_Z)),
         (ph.Body.torus(2.0, 1.0, 0.3), (2, 2, 1), (E_X, E_Y, E_Z)),
         # square prisms along the other axes (I_x = m (b^2 + c^2) / 12, cyclic)
-        (ph.Body.box(2.0, (1.0, 1.0, 2.0)), (1, 2, 2), (E_Z, E_X, E_Y)),
-        (ph.Body.box(2.0, (2.0, 2.0, 1.0)), (2, 2, 1), (E_X, E_Y, E_Z)),
-        (ph.Body.box(2.0, (3.0, 1.0, 1.0)), (1, 2, 2), (E_X, E_Y, E_Z)),
-        (ph.Body.box(2.0, (1.0, 3.0, 3.0)), (2, 2, 1), (E_Y, E_Z, E_X)),
-        (ph.Body.box(2.0, (0.5, 3.0, 3.0)), (2, 2, 1), (E_Y, E_Z, E_X)),
-        (ph.Body.box(2.0, (2.0, 1.0, 1.0)), (1, 2, 2), (E_X, E_Y, E_Z)),
+        (ph.Body.cuboid(2.0, (1.0, 1.0, 2.0)), (1, 2, 2), (E_Z, E_X, E_Y)),
+        (ph.Body.cuboid(2.0, (2.0, 2.0, 1.0)), (2, 2, 1), (E_X, E_Y, E_Z)),
+        (ph.Body.cuboid(2.0, (3.0, 1.0, 1.0)), (1, 2, 2), (E_X, E_Y, E_Z)),
+        (ph.Body.cuboid(2.0, (1.0, 3.0, 3.0)), (2, 2, 1), (E_Y, E_Z, E_X)),
+        (ph.Body.cuboid(2.0, (0.5, 3.0, 3.0)), (2, 2, 1), (E_Y, E_Z, E_X)),
+        (ph.Body.cuboid(2.0, (2.0, 1.0, 1.0)), (1, 2, 2), (E_X, E_Y, E_Z)),
         # distinct moments: the sign convention (column 2 = column 0 x column 1)
-        (ph.Body.box(2.0, (1.0, 2.0, 3.0)), (1, 1, 1), (E_Z, E_Y, -E_X)),
+        (ph.Body.cuboid(2.0, (1.0, 2.0, 3.0)), (1, 1, 1), (E_Z, E_Y, -E_X)),
         (ph.Body.ellipsoid(2.0, (3.0, 2.0, 1.0)), (1, 1, 1), (E_X, E_Y, E_Z)),
     ],
     ids=[
@@ -202,7 +202,7 @@ def test_degenerate_pair_around_the_y_axis(size, unique_column, unique_axis, pai
     # The pair (x, z) in body order with the unique y axis cannot all keep + signs and det +1;
     # the contract fixes the subspaces and the order; we check those, det = +1, and that every
     # column is a signed body axis.
-    p = ph.Body.box(2.0, size).principal()
+    p = ph.Body.cuboid(2.0, size).principal()
     expected_multiplicity = [2, 2, 2]
     expected_multiplicity[unique_column] = 1
     np.testing.assert_array_equal(p.multiplicity, expected_multiplicity)

@@ -256,7 +256,7 @@ def test_power_of_two_scaling(cloud, mass_exponent, length_exponent):
 def test_angular_momentum_and_energy(case, omega):
     body, _, _ = case
     i = np.asarray(body.inertia)
-    momentum = body.angular_momentum(omega)
+    momentum = body.angular_momentum_body(omega)
     energy = body.kinetic_energy(omega)
     scale = norm2(i) * float(omega @ omega)
     assert_close_normwise(momentum, i @ omega, 8 * EPS, scale=norm2(i) * norm2(omega))

@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._core import PolhodeError
+from polhode.errors import ArgumentError, NonFiniteError, ShapeError
 
-__all__ = ["as_array", "as_integer", "as_rotation_matrix", "as_scalar", "check_rotation_matrices"]
+__all__ = ["as_array", "as_integer", "as_rotation_matrix", "as_scalar"]
 
 
 def _shape_str(shape: tuple[int, ...]) -> str:
@@ -47,8 +47,9 @@ def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np
     if array.ndim != len(shape) or any(
         d is not None and d != a for d, a in zip(shape, array.shape, strict=True)
     ):
-        raise PolhodeError(
-            f"Expected `{name}` to have shape {expected}, got {_shape_str(array.shape)}."
+        raise ShapeError(
+            f"Expected `{name}` to have shape {expected}, got {_shape_str(array.shape)}.",
+            argument=name,
         )
     return np.ascontiguousarray(array)
 
@@ -59,7 +60,9 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
 
     if isinstance(rotation, Rotation):
         if not rotation.single:
-            raise PolhodeError(f"Expected `{name}` to be a single rotation, got a stack.")
+            raise ShapeError(
+                f"Expected `{name}` to be a single rotation, got a stack.", argument=name
+            )
         return np.ascontiguousarray(rotation.as_matrix(), dtype=np.float64)
     if rotation is None or isinstance(rotation, str | bytes):
         raise TypeError(
@@ -74,17 +77,22 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
             f"quaternion, got {type(rotation).__name__}."
         ) from error
     if not np.all(np.isfinite(array)):
-        raise PolhodeError(f"Expected `{name}` to be finite, got {array.tolist()}.")
+        raise NonFiniteError(
+            f"Expected `{name}` to be finite, got {array.tolist()}.", argument=name
+        )
     if array.shape == (4,):
         norm = float(np.linalg.norm(array))
         if norm == 0.0:
-            raise PolhodeError(f"Expected `{name}` to be a non-zero quaternion, got {array}.")
+            raise ArgumentError(
+                f"Expected `{name}` to be a non-zero quaternion, got {array}.", argument=name
+            )
         return np.ascontiguousarray(Rotation.from_quat(array / norm).as_matrix())
     if array.shape == (3, 3):
         return np.ascontiguousarray(array)
-    raise PolhodeError(
+    raise ShapeError(
         f"Expected `{name}` to have shape (3, 3) or (4,) (an x, y, z, w quaternion), "
-        f"got {_shape_str(array.shape)}."
+        f"got {_shape_str(array.shape)}.",
+        argument=name,
     )
 
 
@@ -97,24 +105,9 @@ def as_integer(
     result = int(value)
     if allowed and result not in allowed:
         choices = ", ".join(map(str, allowed))
-        raise PolhodeError(f"Expected `{name}` to be one of {choices}, got {result}.")
+        raise ArgumentError(
+            f"Expected `{name}` to be one of {choices}, got {result}.", argument=name
+        )
     if minimum is not None and result < minimum:
-        raise PolhodeError(f"Expected `{name}` to be >= {minimum}, got {result}.")
+        raise ArgumentError(f"Expected `{name}` to be >= {minimum}, got {result}.", argument=name)
     return result
-
-
-def check_rotation_matrices(name: str, matrices: NDArray[np.float64]) -> None:
-    """Each (..., 3, 3) matrix must be a proper rotation to 1e-9 (finite, orthogonal, det +1)."""
-    if not np.all(np.isfinite(matrices)):
-        raise PolhodeError(f"Expected `{name}` to be finite.")
-    m = matrices.reshape(-1, 3, 3)
-    defect = np.linalg.norm(np.swapaxes(m, 1, 2) @ m - np.eye(3), axis=(1, 2))
-    if np.any(defect > 1e-9):
-        raise PolhodeError(
-            f"Expected `{name}` to be a rotation matrix (orthogonal), but |R^T R - 1| = "
-            f"{float(defect.max()):.3g}."
-        )
-    if np.any(np.linalg.det(m) < 0):
-        raise PolhodeError(
-            f"Expected `{name}` to be a proper rotation (det = +1), got a reflection (det = -1)."
-        )

@@ -7,16 +7,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
-    "InertiaError",
     "MassProperties",
-    "PolhodeError",
+    "check_torque",
     "free_rotation",
     "principal",
     "simulate",
 ]
-
-class PolhodeError(ValueError): ...
-class InertiaError(PolhodeError): ...
 
 @final
 class MassProperties:
@@ -48,7 +44,7 @@ class MassProperties:
         mass: float, inner_radius: float, outer_radius: float, length: float
     ) -> MassProperties: ...
     @staticmethod
-    def cone(mass: float, radius: float, height: float) -> MassProperties: ...
+    def cone(mass: float, radius: float, length: float) -> MassProperties: ...
     @staticmethod
     def ellipsoid(mass: float, semi_axes: NDArray[np.float64]) -> MassProperties: ...
     @staticmethod
@@ -81,37 +77,30 @@ class MassProperties:
     def rotated(self, rotation: NDArray[np.float64]) -> MassProperties: ...
     def scaled(self, mass_scale: float, length_scale: float) -> MassProperties: ...
     def combined(self, other: MassProperties) -> MassProperties: ...
-    def angular_momentum(self, omega: NDArray[np.float64]) -> NDArray[np.float64]: ...
+    def angular_momentum_body(self, omega: NDArray[np.float64]) -> NDArray[np.float64]: ...
     def kinetic_energy(self, omega: NDArray[np.float64]) -> float: ...
 
 def principal(
     inertia: NDArray[np.float64], rtol: float | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]: ...
 def simulate(
-    moments: NDArray[np.float64],
+    body: NDArray[np.float64] | MassProperties | list[MassProperties],
     omega0: NDArray[np.float64],
-    quaternion0: NDArray[np.float64],
-    times: NDArray[np.float64],
+    t: NDArray[np.float64],
     *,
-    t0: float,
-    method: str,
-    dt: float | None,
-    order: int,
-    rtol: float,
-    atol: float | None,
-    torque: tuple[Any, ...] | None,
-    with_attitude: bool,
-    max_steps: int,
+    orientation0: NDArray[np.float64] | None = None,
+    t0: float = 0.0,
+    method: str = "auto",
+    dt: float | None = None,
+    order: int = 4,
+    rtol: float = 1e-10,
+    atol: float | None = None,
+    torque: Any = None,
+    orientation: bool = True,
+    max_steps: int = 100_000_000,
     progress: Callable[[float], object] | None = None,
-    axes: NDArray[np.float64] | None = None,
-) -> tuple[
-    NDArray[np.float64],
-    NDArray[np.float64] | None,
-    NDArray[np.float64] | None,
-    NDArray[np.float64],
-    NDArray[np.float64],
-    NDArray[np.uint64],
-]: ...
+) -> dict[str, Any]: ...
+def check_torque(torque: Any) -> None: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]
 ) -> dict[str, Any]: ...

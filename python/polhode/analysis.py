@@ -9,7 +9,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode.simulation import _as_float_array, _resolve_body
+from polhode.bodies import Body
+from polhode.errors import ShapeError
+from polhode.principal_axes import principal
+from polhode.simulation import _as_float_array
+from polhode.simulation import _body as _simulation_body
 
 __all__ = ["Analysis", "analyze"]
 
@@ -26,12 +30,13 @@ class Analysis:
         The initial angular velocity in those principal axes.
     energy : float
         Kinetic energy T.
-    angular_momentum : float
+    angular_momentum_norm : float
         |L|.
     regime : str
-        ``"rest"``; ``"spherical"``; ``"symmetric"`` (two equal moments); ``"about_axis_1"`` or
-        ``"about_axis_3"`` (L circulates in the body about the axis of the smallest or largest
-        moment: L^2 < 2 T I2 or L^2 > 2 T I2); ``"separatrix"`` (L^2 = 2 T I2: one flip,
+        ``"rest"``; ``"spherical"``; ``"symmetric"`` (two equal moments);
+        ``"about_smallest_axis"`` or ``"about_largest_axis"`` (L circulates in the body about
+        the axis of the smallest or largest moment: L^2 < 2 T I2 or L^2 > 2 T I2);
+        ``"separatrix"`` (L^2 = 2 T I2: one flip,
         taking forever); ``"steady_intermediate"`` (rotation about the intermediate axis,
         unstable).
     period : float or None
@@ -57,7 +62,7 @@ class Analysis:
     moments: NDArray[np.float64]
     omega: NDArray[np.float64]
     energy: float
-    angular_momentum: float
+    angular_momentum_norm: float
     regime: str
     period: float | None
     flip_interval: float | None
@@ -66,32 +71,55 @@ class Analysis:
     linearized: dict[str, Any] = field(default_factory=dict)
 
 
+#: The regime of a motion about the axis of the smallest or the largest moment, by axis index.
+_ABOUT = {0: "about_smallest_axis", 2: "about_largest_axis"}
+
+
+def _principal_frame(body: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The principal moments (as given, or ascending) and axes (columns, body coordinates)
+    of one body: a Body, principal moments (3,) or an inertia tensor (3, 3)."""
+    if isinstance(body, Body):
+        p = body.principal()
+        return p.moments, p.axes
+    array = _as_float_array("body", body)
+    if array.shape == (3,):
+        return array, np.eye(3)
+    if array.shape == (3, 3):
+        p = principal(array)
+        return p.moments, p.axes
+    raise ShapeError(
+        "Expected `body` to be one body (a Body, principal moments (3,) or an inertia tensor "
+        f"(3, 3)), got shape {array.shape}.",
+        argument="body",
+    )
+
+
 def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     """Regime, period, flip interval, precession and axis stability of a torque-free motion.
 
     ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes. Moments
     within ``rtol`` (the principal-axes tolerance) count as equal.
     """
-    moments, axes, batch = _resolve_body(body, None)
-    if batch:
-        raise _core.PolhodeError("Expected a single `body` for analyze, got a batch.")
-    moments = moments[0]
     omega_body = _as_float_array("omega0", omega0)
     if omega_body.shape != (3,):
-        raise _core.PolhodeError(f"Expected `omega0` to have shape (3,), got {omega_body.shape}.")
-    if not np.all(np.isfinite(omega_body)):
-        raise _core.PolhodeError(f"Expected `omega0` to be finite, got {omega_body.tolist()}.")
-    if np.any(moments <= 0):
-        raise _core.PolhodeError("Expected `body` to have positive principal moments.")
+        raise ShapeError(
+            f"Expected `omega0` to have shape (3,) (analyze takes one body; polhode.dask.analyze "
+            f"takes N), got {omega_body.shape}.",
+            argument="omega0",
+        )
+    # The same checks as simulate (positive moments, finite omega0 and energy), in the core.
+    _core.simulate(_simulation_body(body), omega_body, np.zeros(1), method="exact",
+                   orientation=False)
+    moments, axes = _principal_frame(body)
     order = np.argsort(moments, kind="stable")
     moments = moments[order]
     omega = (omega_body @ axes)[order]
     info = _core.free_rotation(tuple(moments), tuple(omega))
     regime = info["regime"]
     if regime == "about_axis":
-        regime = f"about_axis_{info['axis'] + 1}"
+        regime = _ABOUT[info["axis"]]
     period = info["period"]
-    flip = period / 2 if regime.startswith("about_axis") and period is not None else None
+    flip = period / 2 if regime in _ABOUT.values() and period is not None else None
     precession = None
     scale = float(np.max(moments))
     tolerance = (8 * np.finfo(float).eps if rtol is None else rtol) * scale
@@ -123,7 +151,7 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         moments=moments,
         omega=omega,
         energy=float(info["energy"]),
-        angular_momentum=float(info["angular_momentum_norm"]),
+        angular_momentum_norm=float(info["angular_momentum_norm"]),
         regime=regime,
         period=period,
         flip_interval=flip,

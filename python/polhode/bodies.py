@@ -9,6 +9,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_rotation_matrix, as_scalar
+from polhode.errors import ShapeError
 from polhode.principal_axes import Principal
 
 __all__ = ["Body"]
@@ -38,10 +39,10 @@ def _as_faces(faces: Any) -> NDArray[np.int64]:
         raise TypeError(f"Expected `faces` to be an array of integers, got dtype {array.dtype}.")
     if array.ndim != 2 or array.shape[1] != 3:
         shape = "(" + ", ".join(str(d) for d in array.shape) + (",)" if array.ndim == 1 else ")")
-        raise _core.PolhodeError(f"Expected `faces` to have shape (M, 3), got {shape}.")
+        raise ShapeError(f"Expected `faces` to have shape (M, 3), got {shape}.", argument="faces")
     if array.dtype.kind == "u" and array.size and int(array.max()) > np.iinfo(np.int64).max:
-        raise _core.PolhodeError(
-            f"Expected `faces` to hold vertex indices, got {int(array.max())}."
+        raise ShapeError(
+            f"Expected `faces` to hold vertex indices, got {int(array.max())}.", argument="faces"
         )
     return np.ascontiguousarray(array, dtype=np.int64)
 
@@ -90,9 +91,10 @@ class Body:
         m = as_array("masses", masses, (None,))
         r = as_array("positions", positions, (None, 3))
         if r.shape[0] != m.shape[0]:
-            raise _core.PolhodeError(
+            raise ShapeError(
                 f"Expected `positions` to have shape ({m.shape[0]}, 3) to match `masses`, "
-                f"got ({r.shape[0]}, 3)."
+                f"got ({r.shape[0]}, 3).",
+                argument="positions",
             )
         return cls(_core.MassProperties.point_masses(m, r))
 
@@ -173,8 +175,8 @@ class Body:
         )
 
     @classmethod
-    def box(cls, mass: float, size: Any) -> Body:
-        """A solid box with full edge lengths ``size`` = (a, b, c) along x, y, z."""
+    def cuboid(cls, mass: float, size: Any) -> Body:
+        """A solid cuboid (a box) with full edge lengths ``size`` = (a, b, c) along x, y, z."""
         return cls(
             _core.MassProperties.cuboid(as_scalar("mass", mass), as_array("size", size, (3,)))
         )
@@ -201,11 +203,12 @@ class Body:
         )
 
     @classmethod
-    def cone(cls, mass: float, radius: float, height: float) -> Body:
-        """A solid cone: base disc in the plane z = 0, apex at z = height (centre of mass h/4)."""
+    def cone(cls, mass: float, radius: float, length: float) -> Body:
+        """A solid cone along z: base disc in the plane z = 0, apex at z = length (centre of
+        mass at length/4)."""
         return cls(
             _core.MassProperties.cone(
-                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("height", height)
+                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
             )
         )
 
@@ -341,9 +344,10 @@ class Body:
         moments, axes, multiplicity = self._core.principal(tolerance)
         return Principal(moments, axes, multiplicity)
 
-    def angular_momentum(self, omega: Any) -> NDArray[np.float64]:
-        """(3,) angular momentum I w about the centre of mass, ``omega`` in body axes."""
-        return self._core.angular_momentum(as_array("omega", omega, (3,)))
+    def angular_momentum_body(self, omega: Any) -> NDArray[np.float64]:
+        """(3,) angular momentum I w about the centre of mass in body axes, ``omega`` in body
+        axes."""
+        return self._core.angular_momentum_body(as_array("omega", omega, (3,)))
 
     def kinetic_energy(self, omega: Any) -> float:
         """Rotational kinetic energy w . I w / 2."""

@@ -32,7 +32,7 @@ def _bodies() -> list[tuple[str, ph.Body]]:
         ],
     )
     return [
-        ("uniform cube (1 kg, 0.1 m) about its centre", ph.Body.box(1.0, [0.1, 0.1, 0.1])),
+        ("uniform cube (1 kg, 0.1 m) about its centre", ph.Body.cuboid(1.0, [0.1, 0.1, 0.1])),
         ("cylinder (2 kg, r 0.05 m, L 0.4 m)", ph.Body.cylinder(2.0, 0.05, 0.4)),
         ("T-handle (two cylinders, kg and m)", t_handle),
         ("water molecule (u and angstrom)", water),
@@ -124,10 +124,10 @@ def _flip_demo() -> None:
 SOLIDS = {
     "sphere": ("mass", "radius"),
     "spherical_shell": ("mass", "radius"),
-    "box": ("mass", "a", "b", "c"),
+    "cuboid": ("mass", "a", "b", "c"),
     "cylinder": ("mass", "radius", "length"),
     "tube": ("mass", "inner_radius", "outer_radius", "length"),
-    "cone": ("mass", "radius", "height"),
+    "cone": ("mass", "radius", "length"),
     "ellipsoid": ("mass", "a", "b", "c"),
     "torus": ("mass", "major_radius", "minor_radius"),
     "capsule": ("mass", "radius", "length"),
@@ -157,7 +157,7 @@ def _solid(words: list[str]) -> ph.Body:
             f"got {' '.join(pairs) or 'nothing'}."
         )
     args = [values[n] for n in expected]
-    if kind in ("box", "ellipsoid"):
+    if kind in ("cuboid", "ellipsoid"):
         return getattr(ph.Body, kind)(args[0], args[1:])
     return getattr(ph.Body, kind)(*args)
 

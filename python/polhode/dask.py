@@ -1,6 +1,6 @@
 """Sweeps over many bodies with Dask: :func:`simulate` and :func:`analyze` chunk by chunk.
 
-The bodies (rows of ``moments`` and ``omega0``) are split into blocks along N; each block is one
+The bodies (rows of ``body`` and ``omega0``) are split into blocks along N; each block is one
 task that calls :func:`polhode.simulate` (or :func:`polhode.analyze` row by row) on its rows, so
 the same code runs on a laptop (the threaded scheduler) or on a ``dask.distributed`` cluster, and
 gives the same numbers bit for bit as one call on the whole batch: every body is integrated on
@@ -17,7 +17,6 @@ block once, and ``.compute()`` gives the numpy result in one pass.
 
 from __future__ import annotations
 
-import re
 import time
 from dataclasses import dataclass, fields
 from typing import Any
@@ -35,8 +34,8 @@ except ImportError as error:  # pragma: no cover - exercised only without the ex
 
 import polhode
 from polhode._coerce import as_integer, as_scalar
-from polhode._core import PolhodeError
-from polhode.simulation import Trajectory, _as_float_array
+from polhode.errors import ArgumentError, PolhodeError, ShapeError
+from polhode.simulation import OUTPUTS, Trajectory, _as_float_array
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
 
@@ -58,7 +57,7 @@ class DaskTrajectory:
         Angular velocity in body axes.
     quaternion : (N, M, 4) dask.array.Array or None
         Body-to-space orientation (x, y, z, w); None with ``orientation=False``.
-    angular_momentum : (N, M, 3) dask.array.Array or None
+    angular_momentum_space : (N, M, 3) dask.array.Array or None
         Angular momentum in space axes; None without orientation.
     angular_momentum_body : (N, M, 3) dask.array.Array
         Angular momentum in body axes.
@@ -77,7 +76,7 @@ class DaskTrajectory:
     t: NDArray[np.float64]
     omega: da.Array
     quaternion: da.Array | None
-    angular_momentum: da.Array | None
+    angular_momentum_space: da.Array | None
     angular_momentum_body: da.Array
     energy: da.Array
     moments: da.Array
@@ -108,16 +107,7 @@ class DaskTrajectory:
             "evaluations": field("evaluations"),
             "wall_time": time.perf_counter() - started,
         }
-        return Trajectory(
-            t=self.t,
-            omega=field("omega"),
-            quaternion=field("quaternion"),
-            angular_momentum=field("angular_momentum"),
-            angular_momentum_body=field("angular_momentum_body"),
-            energy=field("energy"),
-            moments=field("moments"),
-            stats=stats,
-        )
+        return Trajectory(t=self.t, stats=stats, **{name: field(name) for name in OUTPUTS})
 
     def persist(self, **kwargs: Any) -> DaskTrajectory:
         """The same trajectory with its blocks computed and kept in (cluster) memory."""
@@ -137,7 +127,7 @@ class DaskAnalysis:
     ----------
     moments, omega : (N, 3)
         Principal moments ascending, and the initial angular velocity in those axes.
-    energy, angular_momentum : (N,)
+    energy, angular_momentum_norm : (N,)
         T and |L|.
     regime : (N,) str
     period, flip_interval, precession_rate : (N,) float, NaN where not defined
@@ -150,7 +140,7 @@ class DaskAnalysis:
     moments: Any
     omega: Any
     energy: Any
-    angular_momentum: Any
+    angular_momentum_norm: Any
     regime: Any
     period: Any
     flip_interval: Any
@@ -186,47 +176,36 @@ def _as_input(name: str, value: Any) -> da.Array | NDArray[np.float64]:
     else:
         array = _as_float_array(name, value)
     if array.shape != (3,) and not (array.ndim == 2 and array.shape[1] == 3):
-        raise PolhodeError(
-            f"Expected `{name}` to have shape (3,) or (N, 3), got {_shape(array.shape)}."
+        raise ShapeError(
+            f"Expected `{name}` to have shape (3,) or (N, 3), got {_shape(array.shape)}.",
+            argument=name,
         )
     if array.ndim == 2 and np.isnan(array.shape[0]):
-        raise PolhodeError(
+        raise ShapeError(
             f"Expected `{name}` to have a known number of rows, got unknown chunk sizes "
-            "(call .compute_chunk_sizes() first)."
+            "(call .compute_chunk_sizes() first).",
+            argument=name,
         )
     return array
 
 
-def _check_finite_rows(moments: Any, omega0: Any) -> None:
-    """Values of numpy inputs are checked at once (dask inputs when computed)."""
-    if isinstance(moments, np.ndarray):
-        bad = ~(np.isfinite(moments) & (moments > 0))
-        if np.any(bad):
-            row = int(np.argmax(bad.reshape(-1, 3).any(axis=1)))
-            raise PolhodeError(
-                "Expected `moments` to be positive and finite (Euler's equations need I^-1), "
-                f"got {moments.reshape(-1, 3)[row].tolist()} in row {row}."
-            )
-    if isinstance(omega0, np.ndarray):
-        bad = ~np.isfinite(omega0)
-        if np.any(bad):
-            row = int(np.argmax(bad.reshape(-1, 3).any(axis=1)))
-            raise PolhodeError(
-                f"Expected `omega0` to be finite, got {omega0.reshape(-1, 3)[row].tolist()} "
-                f"in row {row}."
-            )
-
-
-def _rows(moments: Any, omega0: Any) -> int:
-    """The number of bodies N; a (3,) input is shared by all (N = 1 if both are)."""
-    n_moments = int(moments.shape[0]) if moments.ndim == 2 else None
-    n_omega = int(omega0.shape[0]) if omega0.ndim == 2 else None
-    if n_moments is not None and n_omega is not None and n_moments != n_omega:
-        raise PolhodeError(
-            f"Expected `omega0` to have shape (3,) or ({n_moments}, 3) to match `moments`, "
-            f"got {_shape(omega0.shape)}."
+def _rows(body: Any, omega0: Any) -> int:
+    """The number of bodies N: the rows of ``omega0`` (N, 3); ``body`` has N rows or one (3,)
+    row shared by all."""
+    if omega0.ndim != 2:
+        raise ShapeError(
+            "Expected `omega0` to have shape (N, 3) (one row per body), "
+            f"got {_shape(omega0.shape)}.",
+            argument="omega0",
         )
-    return next((k for k in (n_moments, n_omega) if k is not None), 1)
+    n = int(omega0.shape[0])
+    if body.ndim == 2 and int(body.shape[0]) != n:
+        raise ShapeError(
+            f"Expected `body` to have shape (3,) or ({n}, 3) to match `omega0`, "
+            f"got {_shape(body.shape)}.",
+            argument="body",
+        )
+    return n
 
 
 def _row_chunks(chunks: Any, n: int, record_bytes: int, *arrays: Any) -> tuple[int, ...]:
@@ -270,8 +249,9 @@ def _orientation_input(orientation0: Any, n: int) -> tuple[Any, Any, bool]:
             return orientation0, None, False
         quaternions = orientation0.as_quat()
         if quaternions.shape != (n, 4):
-            raise PolhodeError(
-                f"Expected `orientation0` to hold 1 or {n} rotations, got {len(orientation0)}."
+            raise ShapeError(
+                f"Expected `orientation0` to hold 1 or {n} rotations, got {len(orientation0)}.",
+                argument="orientation0",
             )
         return None, quaternions, True
     if isinstance(orientation0, da.Array):
@@ -286,22 +266,20 @@ def _orientation_input(orientation0: Any, n: int) -> tuple[Any, Any, bool]:
     if per_body.shape in ((4,), (3, 3)) or (per_body.ndim >= 2 and per_body.shape[0] == 1):
         return np.asarray(per_body), None, False  # one rotation for all: small, computed now
     if per_body.shape not in ((n, 4), (n, 3, 3)):
-        raise PolhodeError(
+        raise ShapeError(
             "Expected `orientation0` to be a scipy Rotation, a (3, 3) matrix, an (x, y, z, w) "
             f"quaternion, or ({n}, 4) quaternions or ({n}, 3, 3) matrices (one per body), "
-            f"got shape {_shape(per_body.shape)}."
+            f"got shape {_shape(per_body.shape)}.",
+            argument="orientation0",
         )
     return None, per_body, False
 
 
-def _renamed(error: Exception, rows: NDArray[np.int64] | None = None) -> Exception:
-    """The error of a block, with `body` named `moments` and body indices made global."""
-    message = str(error).replace("`body`", "`moments`")
-    if rows is not None and rows.size:
-        start = int(rows[0])
-        message = re.sub(r"\(body (\d+)\)", lambda m: f"(body {start + int(m[1])})", message)
-        message = f"In the block of bodies {start}..{int(rows[-1])}: {message}"
-    return type(error)(message)
+def _in_block(error: PolhodeError, rows: NDArray[np.int64]) -> PolhodeError:
+    """The error of a block, its body numbered in the whole batch."""
+    if error.body is None or not rows.size:
+        return error
+    return error.for_body(int(rows[error.body]))
 
 
 # -------------------------------------------------------------------------------------------------
@@ -311,21 +289,20 @@ def _renamed(error: Exception, rows: NDArray[np.int64] | None = None) -> Excepti
 
 def _record_dtype(dry: Trajectory) -> np.dtype[Any]:
     m = dry.t.shape[0]
-    names = ["omega", "quaternion", "angular_momentum", "angular_momentum_body", "energy"]
     items: list[tuple[str, Any, tuple[int, ...]]] = []
-    for name in names:
+    for name in OUTPUTS:
         value = getattr(dry, name)
         if value is not None:
-            items.append((name, value.dtype, (m, *value.shape[2:])))
-    items.append(("moments", dry.moments.dtype, (3,)))
+            items.append((name, value.dtype, tuple(value.shape[1:])))
     for name in ("steps", "rejected_steps", "evaluations"):
         items.append((name, dry.stats[name].dtype, ()))
     size = sum(np.dtype(t).itemsize * int(np.prod(s)) for _, t, s in items)
     if size > _MAX_RECORD_BYTES:
-        raise PolhodeError(
+        raise ShapeError(
             f"Expected fewer output times `t` for polhode.dask: one body's trajectory at {m} "
             f"times takes {size} bytes, over numpy's limit of {_MAX_RECORD_BYTES} per record; "
-            "split `t` into several runs."
+            "split `t` into several runs.",
+            argument="t",
         )
     return np.dtype(items)
 
@@ -352,7 +329,7 @@ def _simulate_block(
     try:
         traj = polhode.simulate(moments, omega0, t, **options)
     except PolhodeError as error:
-        raise _renamed(error, rows) from error
+        raise _in_block(error, rows) from error
     records = np.empty(moments.shape[0], dtype=record_dtype)
     for name in record_dtype.names or ():
         records[name] = traj.stats[name] if name in traj.stats else getattr(traj, name)
@@ -385,12 +362,7 @@ def _trajectory(records: da.Array, t: NDArray[np.float64], method: str) -> DaskT
 
     return DaskTrajectory(
         t=t,
-        omega=_field(records, "omega"),
-        quaternion=field("quaternion"),
-        angular_momentum=field("angular_momentum"),
-        angular_momentum_body=_field(records, "angular_momentum_body"),
-        energy=_field(records, "energy"),
-        moments=_field(records, "moments"),
+        **{name: field(name) for name in OUTPUTS},
         steps=_field(records, "steps"),
         rejected_steps=_field(records, "rejected_steps"),
         evaluations=_field(records, "evaluations"),
@@ -400,7 +372,7 @@ def _trajectory(records: da.Array, t: NDArray[np.float64], method: str) -> DaskT
 
 
 def simulate(
-    moments: Any,
+    body: Any,
     omega0: Any,
     t: Any,
     *,
@@ -412,10 +384,10 @@ def simulate(
 
     Parameters
     ----------
-    moments : (N, 3) or (3,) dask.array.Array or array_like
+    body : (N, 3) or (3,) dask.array.Array or array_like
         Principal moments of each body (a (3,) row is shared by all).
-    omega0 : (N, 3) or (3,) dask.array.Array or array_like
-        Initial angular velocity in principal axes.
+    omega0 : (N, 3) dask.array.Array or array_like
+        Initial angular velocity of each body, in principal axes: its rows set N.
     t : float or (M,) array_like
         Output times or an end time, as in :func:`polhode.simulate` (numpy, shared by all).
     orientation0 : optional
@@ -436,30 +408,31 @@ def simulate(
         identical numbers.
 
     Shapes, types, ``t`` and every keyword are checked at once, as are numpy values of
-    ``moments``, ``omega0`` and ``orientation0``; dask values are checked when their block runs
-    (the error names the block's bodies).
+    ``body``, ``omega0`` and ``orientation0``; dask values are checked when their block runs
+    (the error's ``body`` is the index in the whole batch).
     """
-    moments = _as_input("moments", moments)
+    moments = _as_input("body", body)
     omega0 = _as_input("omega0", omega0)
     n = _rows(moments, omega0)
     shared, per_body, stack = _orientation_input(orientation0, n)
     # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
     dry_orientation = shared if per_body is None else np.zeros((0, *per_body.shape[1:]))
-    try:
-        dry = polhode.simulate(
-            np.zeros((0, 3)), np.zeros((0, 3)), t, orientation0=dry_orientation, **options
-        )
-    except PolhodeError as error:
-        raise _renamed(error) from error
-    _check_finite_rows(moments, omega0)
-    if isinstance(per_body, np.ndarray) and not stack:
+    dry = polhode.simulate(
+        np.zeros((0, 3)), np.zeros((0, 3)), t, orientation0=dry_orientation, **options
+    )
+    # Numpy values at once: each body at the initial time only (no steps).
+    if any(isinstance(a, np.ndarray) for a in (moments, omega0, per_body)):
         t0 = options.get("t0", 0.0)
-        try:  # the per-body rotations, at the initial time only (no steps)
-            polhode.simulate(
-                np.ones((n, 3)), np.zeros((n, 3)), [t0], orientation0=per_body, **options
-            )
-        except PolhodeError as error:
-            raise _renamed(error) from error
+        per_body_now = per_body if isinstance(per_body, np.ndarray) and not stack else None
+        polhode.simulate(
+            moments if isinstance(moments, np.ndarray) else np.ones(3),
+            omega0 if isinstance(omega0, np.ndarray) else np.zeros((n, 3)),
+            [t0],
+            orientation0=shared if per_body_now is None else per_body_now,
+            t0=t0,
+            method="exact",
+            orientation=options.get("orientation", True),
+        )
     dtype = _record_dtype(dry)
     row_chunks = _row_chunks(chunks, n, dtype.itemsize, moments, omega0, per_body)
     args: list[Any] = [
@@ -498,7 +471,7 @@ _ANALYSIS_DTYPE = np.dtype(
         ("moments", np.float64, (3,)),
         ("omega", np.float64, (3,)),
         ("energy", np.float64),
-        ("angular_momentum", np.float64),
+        ("angular_momentum_norm", np.float64),
         ("regime", f"U{_REGIME_WIDTH}"),
         ("period", np.float64),
         ("flip_interval", np.float64),
@@ -523,9 +496,7 @@ def _analyze_block(
         try:
             a = polhode.analyze(moments[k], omega0[k], rtol)
         except PolhodeError as error:
-            raise type(error)(
-                f"Body {int(rows[k])}: " + str(error).replace("`body`", "`moments`")
-            ) from error
+            raise error.for_body(int(rows[k])) from error
         strings = (a.regime, a.linearized["kind"], *a.axis_stability)
         if max(map(len, strings)) > _REGIME_WIDTH:  # numpy would truncate silently
             raise AssertionError(f"polhode.dask: widen _REGIME_WIDTH for {strings}")
@@ -533,7 +504,7 @@ def _analyze_block(
             a.moments,
             a.omega,
             a.energy,
-            a.angular_momentum,
+            a.angular_momentum_norm,
             a.regime,
             np.nan if a.period is None else a.period,
             np.nan if a.flip_interval is None else a.flip_interval,
@@ -547,23 +518,28 @@ def _analyze_block(
 
 
 def analyze(
-    moments: Any, omega0: Any, *, rtol: float | None = None, chunks: int | None = None
+    body: Any, omega0: Any, *, rtol: float | None = None, chunks: int | None = None
 ) -> DaskAnalysis:
     """:func:`polhode.analyze` of N bodies, block by block along N (lazy).
 
-    ``moments`` and ``omega0`` as in :func:`simulate` ((N, 3) or a shared (3,) row, dask or
-    numpy); ``rtol`` as in :func:`polhode.analyze`. Each block analyzes its bodies one by one
+    ``body`` and ``omega0`` as in :func:`simulate` (``omega0`` (N, 3); ``body`` (N, 3) or a
+    shared (3,) row; dask or numpy); ``rtol`` as in :func:`polhode.analyze`. Each block
+    analyzes its bodies one by one
     (Python per body, about 20 us), so spreading the blocks over processes pays off here even on
     one machine. ``chunks`` (bodies per block) as in :func:`simulate`.
     """
-    moments = _as_input("moments", moments)
+    moments = _as_input("body", body)
     omega0 = _as_input("omega0", omega0)
     if rtol is not None:
         rtol = as_scalar("rtol", rtol)
         if not (np.isfinite(rtol) and rtol >= 0):
-            raise PolhodeError(f"Expected `rtol` to be non-negative and finite, got {rtol}.")
+            raise ArgumentError(
+                f"Expected `rtol` to be non-negative and finite, got {rtol}.", argument="rtol"
+            )
     n = _rows(moments, omega0)
-    _check_finite_rows(moments, omega0)
+    if isinstance(moments, np.ndarray) and isinstance(omega0, np.ndarray):
+        # Numpy values at once, as simulate checks them (no steps).
+        polhode.simulate(moments, omega0, [0.0], method="exact", orientation=False)
     row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
     records = da.blockwise(
         _analyze_block,

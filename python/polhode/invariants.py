@@ -19,12 +19,9 @@ Array = NDArray[np.float64]
 def angular_momentum_space(traj: Any) -> Array | None:
     """The angular momentum in space axes, (..., M, 3), or None without orientation.
 
-    The one place that reads it off a trajectory, under either name of the field
-    (``angular_momentum_space``, else ``angular_momentum``).
+    The one place that reads it off a trajectory.
     """
-    value = getattr(traj, "angular_momentum_space", None)
-    if value is None:
-        value = getattr(traj, "angular_momentum", None)
+    value = traj.angular_momentum_space
     return None if value is None else np.asarray(value, dtype=np.float64)
 
 

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode.errors import ArgumentError, NonFiniteError, ShapeError
 from polhode.simulation import _as_float_array
 
 __all__ = ["perturbation"]
@@ -58,19 +58,21 @@ def perturbation(moments: Any, omega0: Any, t: Any, *, axis: int | None = None, 
     omega = _as_float_array("omega0", omega0)
     times = np.atleast_1d(_as_float_array("t", t))
     if inertia.shape != (3,) or omega.shape != (3,) or times.ndim != 1:
-        raise _core.PolhodeError(
+        raise ShapeError(
             "Expected `moments` and `omega0` of shape (3,) and `t` of shape (M,), got "
             f"{inertia.shape}, {omega.shape}, {times.shape}."
         )
     if not (np.all(np.isfinite(inertia)) and np.all(inertia > 0)):
-        raise _core.PolhodeError(f"Expected positive finite `moments`, got {inertia.tolist()}.")
+        raise ArgumentError(
+            f"Expected positive finite `moments`, got {inertia.tolist()}.", argument="moments"
+        )
     if not (np.all(np.isfinite(omega)) and np.all(np.isfinite(times))):
-        raise _core.PolhodeError("Expected finite `omega0` and `t`.")
+        raise NonFiniteError("Expected finite `omega0` and `t`.")
     if isinstance(order, bool) or order not in (0, 1, 2):
-        raise _core.PolhodeError(f"Expected `order` to be 0, 1 or 2, got {order!r}.")
+        raise ArgumentError(f"Expected `order` to be 0, 1 or 2, got {order!r}.", argument="order")
     k = int(np.argmax(np.abs(omega))) if axis is None else axis
     if isinstance(k, bool) or k not in (0, 1, 2):
-        raise _core.PolhodeError(f"Expected `axis` to be 0, 1 or 2, got {axis!r}.")
+        raise ArgumentError(f"Expected `axis` to be 0, 1 or 2, got {axis!r}.", argument="axis")
     i, j = (k + 1) % 3, (k + 2) % 3  # cyclic, so the signs of Euler's equations hold
     ii, ij, ik = inertia[i], inertia[j], inertia[k]
     spin, a, b = omega[k], omega[i], omega[j]

@@ -27,6 +27,9 @@ if TYPE_CHECKING:
 
 __all__ = ["drift", "herpolhode", "omega", "perturbation_error", "polhode", "work_precision"]
 
+#: The principal axes by role, indexed 0, 1, 2 with the moments ascending.
+AXIS_ROLES = ("smallest", "intermediate", "largest")
+
 #: Errors below this are drawn at this value so a log axis can show exact zeros.
 FLOOR = 1e-17
 
@@ -116,7 +119,8 @@ def polhode_curves(
     """The closed curve(s) where the sphere |L| = const meets the ellipsoid sum L_i^2/I_i = 2T.
 
     Returns one (n, 3) array per branch (body principal axes, moments ascending): two branches,
-    one around +axis and one around -axis (axis 1 if 2T > L^2/I2, axis 3 if below).
+    one around +axis and one around -axis (the smallest axis, 0, if 2T > L^2/I2; the largest, 2,
+    if below).
     """
     i1, i2, i3 = (float(m) for m in moments)
     l2 = float(angular_momentum_norm) ** 2
@@ -129,13 +133,13 @@ def polhode_curves(
     phi = np.linspace(0.0, 2.0 * np.pi, n)
     c, s = np.cos(phi), np.sin(phi)
     if two_t < l2 / i2 or (i1 == i2 and two_t <= l2 / i1):
-        # around axis 3: L1^2 (1/I1 - 1/I3) + L2^2 (1/I2 - 1/I3) = 2T - L^2/I3
+        # around the largest axis: L1^2 (1/I1 - 1/I3) + L2^2 (1/I2 - 1/I3) = 2T - L^2/I3
         rhs = max(two_t - l2 / i3, 0.0)
         a = np.sqrt(rhs / (1 / i1 - 1 / i3)) * c
         b = np.sqrt(rhs / (1 / i2 - 1 / i3)) * s
         rest = np.sqrt(np.maximum(l2 - a * a - b * b, 0.0))
         return [np.column_stack([a, b, sign * rest]) for sign in (1.0, -1.0)]
-    # around axis 1: L2^2 (1/I1 - 1/I2) + L3^2 (1/I1 - 1/I3) = L^2/I1 - 2T
+    # around the smallest axis: L2^2 (1/I1 - 1/I2) + L3^2 (1/I1 - 1/I3) = L^2/I1 - 2T
     rhs = max(l2 / i1 - two_t, 0.0)
     b = np.sqrt(rhs / (1 / i1 - 1 / i2)) * c if i1 != i2 else 0.0 * c
     d = np.sqrt(rhs / (1 / i1 - 1 / i3)) * s
@@ -236,9 +240,9 @@ def polhode(
     if traj is not None:
         Lb = np.asarray(traj.angular_momentum_body, dtype=np.float64)
         ax.plot(*Lb.T, color="tab:red", linewidth=2.0, gid="trajectory", label="trajectory")
-    ax.set_xlabel("L1")
-    ax.set_ylabel("L2")
-    ax.set_zlabel("L3")
+    ax.set_xlabel("L, smallest axis (0)")
+    ax.set_ylabel("L, intermediate axis (1)")
+    ax.set_zlabel("L, largest axis (2)")
     ax.set_box_aspect((1, 1, 1))
     ax.set_title("Polhode: L on |L| = const (body axes)")
     if ax.get_legend_handles_labels()[0]:
@@ -421,7 +425,10 @@ def perturbation_error(
         )
     ax.set_xlabel("$\\epsilon$ (size of the perturbation)")
     ax.set_ylabel("max |omega - omega_exact|")
-    ax.set_title(f"Perturbation expansion near axis {axis + 1}: error against $\\epsilon$")
+    ax.set_title(
+        f"Perturbation expansion near the {AXIS_ROLES[axis]} axis ({axis}): "
+        "error against $\\epsilon$"
+    )
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     return ax

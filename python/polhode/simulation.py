@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -12,16 +11,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode._coerce import as_integer, as_scalar, check_rotation_matrices
+from polhode._coerce import as_integer, as_scalar
 from polhode.bodies import Body
-from polhode.principal_axes import principal
-from polhode.torque import Gravity, Torque, as_torque
+from polhode.torque import as_torque
 
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
 __all__ = ["Trajectory", "simulate"]
 
+#: The methods of :func:`simulate` (the core parses the name).
 METHODS = ("auto", "exact", "splitting", "midpoint", "rk4", "dop853")
 
 
@@ -38,8 +37,9 @@ class Trajectory:
     omega : (..., M, 3) numpy.ndarray
         Angular velocity in body axes.
     quaternion : (..., M, 4) numpy.ndarray or None
-        Body-to-space orientation, scalar-last (x, y, z, w); None with ``orientation=False``.
-    angular_momentum : (..., M, 3) numpy.ndarray or None
+        Body-to-space orientation, scalar-last (x, y, z, w), continuous in time; None with
+        ``orientation=False``.
+    angular_momentum_space : (..., M, 3) numpy.ndarray or None
         Angular momentum in space axes (conserved without torque); None without orientation.
     angular_momentum_body : (..., M, 3) numpy.ndarray
         Angular momentum in body axes.
@@ -54,7 +54,7 @@ class Trajectory:
     t: NDArray[np.float64]
     omega: NDArray[np.float64]
     quaternion: NDArray[np.float64] | None
-    angular_momentum: NDArray[np.float64] | None
+    angular_momentum_space: NDArray[np.float64] | None
     angular_momentum_body: NDArray[np.float64]
     energy: NDArray[np.float64]
     moments: NDArray[np.float64]
@@ -72,112 +72,46 @@ class Trajectory:
         return [Rotation.from_quat(q) for q in self.quaternion]
 
 
+#: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
+OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
+
+
 def _as_float_array(name: str, value: Any) -> NDArray[np.float64]:
-    if value is None or isinstance(value, str | bytes):
-        raise TypeError(f"Expected `{name}` to be an array of numbers, got {type(value).__name__}.")
+    """A float64 array (any shape); TypeError naming ``name`` for anything else."""
+    if value is None or isinstance(value, str | bytes) or np.iscomplexobj(value):
+        raise TypeError(f"Expected `{name}` to be an array of real numbers, got {_kind(value)}.")
     try:
         return np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
         raise TypeError(
-            f"Expected `{name}` to be an array of numbers, got {type(value).__name__}."
+            f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
         ) from error
 
 
-def _shape(shape: tuple[int, ...]) -> str:
-    return f"({shape[0]},)" if len(shape) == 1 else "(" + ", ".join(map(str, shape)) + ")"
+def _kind(value: Any) -> str:
+    if isinstance(value, np.ndarray):
+        return f"an array of dtype {value.dtype}"
+    return type(value).__name__
 
 
-_IDENTITY = np.eye(3)
-_IDENTITY.flags.writeable = False
-_NO_ROTATION = np.array([[0.0, 0.0, 0.0, 1.0]])
-_NO_ROTATION.flags.writeable = False
-
-
-def _resolve_body(
-    body: Any, gravity: Gravity | None
-) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
-    """Principal moments (N, 3), the principal axes of a single body (3, 3) and whether the
-    input was a batch. A heavy top is integrated about its pivot."""
+def _body(body: Any) -> Any:
+    """What the core takes for ``body``: the core of a Body, a list of them, or numbers."""
     if isinstance(body, Body):
-        if gravity is not None:
-            pivot = np.zeros(3) if gravity.pivot is None else gravity.pivot
-            p = principal(body.inertia_about(pivot))
-            r_cm = body.center_of_mass - pivot
-            gravity._resolved = (body.mass, r_cm)
-        else:
-            p = body.principal()
-        return p.moments[None, :], p.axes, False
-    array = _as_float_array("body", body)
-    if array.shape == (3,):
-        return array[None, :], _IDENTITY, False
-    if array.shape == (3, 3):
-        p = principal(array)
-        return p.moments[None, :], p.axes, False
-    if array.ndim == 2 and array.shape[1] == 3:
-        return array, _IDENTITY, True
-    raise _core.PolhodeError(
-        "Expected `body` to be a polhode.Body, principal moments (3,), an inertia tensor (3, 3) "
-        f"or a batch of principal moments (N, 3), got shape {_shape(array.shape)}."
-    )
+        return body._core
+    if isinstance(body, list | tuple) and body and all(isinstance(b, Body) for b in body):
+        return [b._core for b in body]
+    return _as_float_array("body", body)
 
 
-def _times(t: Any, t0: float) -> NDArray[np.float64]:
-    times = _as_float_array("t", t)
-    if np.ndim(t) == 0:
-        times = np.array([t0, float(times.reshape(-1)[0])])
-    if times.ndim != 1 or times.size == 0:
-        raise _core.PolhodeError(
-            "Expected `t` to be an end time or output times of shape (M,), "
-            f"got {_shape(times.shape)}."
-        )
-    if not np.isfinite(times).all():
-        raise _core.PolhodeError(f"Expected `t` to be finite, got {times[~np.isfinite(times)][0]}.")
-    decreasing = times[1:] < times[:-1]
-    if decreasing.any():
-        k = int(np.argmax(decreasing))
-        raise _core.PolhodeError(
-            f"Expected `t` to be non-decreasing, got t[{k}] = {times[k]} > "
-            f"t[{k + 1}] = {times[k + 1]}."
-        )
-    if times[0] < t0:
-        raise _core.PolhodeError(
-            f"Expected every output time `t` >= t0 = {t0} (the initial time), got {times[0]}."
-        )
-    return times
-
-
-def _orientation(orientation0: Any, n: int) -> NDArray[np.float64]:
-    """Initial body-to-space quaternions (n, 4), xyzw."""
+def _orientation0(orientation0: Any) -> NDArray[np.float64] | None:
+    """Quaternions (..., 4) xyzw or matrices (..., 3, 3); the core checks them."""
+    if orientation0 is None:
+        return None
     from scipy.spatial.transform import Rotation
 
-    if orientation0 is None:
-        return _NO_ROTATION if n == 1 else np.tile(_NO_ROTATION, (n, 1))
     if isinstance(orientation0, Rotation):
-        q = orientation0.as_quat().reshape(-1, 4)
-    else:
-        array = _as_float_array("orientation0", orientation0)
-        if not np.all(np.isfinite(array)):
-            raise _core.PolhodeError("Expected `orientation0` to be finite.")
-        if array.shape[-2:] == (3, 3) and array.ndim <= 3:
-            check_rotation_matrices("orientation0", array)
-            q = Rotation.from_matrix(array).as_quat().reshape(-1, 4)
-        elif array.shape[-1:] == (4,) and array.ndim <= 2:
-            norms = np.linalg.norm(array.reshape(-1, 4), axis=1)
-            if np.any(norms == 0):
-                raise _core.PolhodeError("Expected `orientation0` to be a non-zero quaternion.")
-            q = array.reshape(-1, 4) / norms[:, None]
-        else:
-            raise _core.PolhodeError(
-                "Expected `orientation0` to be a scipy Rotation, a (3, 3) matrix or an "
-                f"(x, y, z, w) quaternion (or N of them), got shape {_shape(array.shape)}."
-            )
-    if q.shape[0] == 1:
-        q = np.tile(q, (n, 1))
-    if q.shape[0] != n:
-        raise _core.PolhodeError(
-            f"Expected `orientation0` to hold 1 or {n} rotations, got {q.shape[0]}."
-        )
-    return np.ascontiguousarray(q)
+        return np.ascontiguousarray(orientation0.as_quat())
+    return _as_float_array("orientation0", orientation0)
 
 
 def _check_progress(progress: Any) -> None:
@@ -235,11 +169,16 @@ def simulate(
 
     Parameters
     ----------
-    body : Body, (3,) moments, (3, 3) tensor, or (N, 3) principal moments of N bodies
-        A body in non-principal axes is integrated in principal axes and reported back in its
-        own axes. Every principal moment must be positive (Euler's equations need I^-1).
+    body : Body, (3,) moments, (3, 3) tensor; (N, 3) moments or N Bodies for a batch
+        ``omega0``'s shape decides how many bodies there are: with ``omega0`` of shape (3,),
+        one body (a Body, principal moments (3,) or an inertia tensor (3, 3)); with (N, 3), N
+        bodies, for every N including 3 (principal moments (N, 3), a list of N Bodies, or one
+        Body or (3,) moments shared by all). A body in non-principal axes is integrated in
+        principal axes and reported back in its own axes. Every principal moment must be
+        positive (Euler's equations need I^-1); the moments may break I1 + I2 >= I3, which no
+        mass distribution does, since Euler's equations hold for any positive moments.
     omega0 : (3,) or (N, 3) array_like
-        Initial angular velocity in body axes at ``t0``; one row is shared by all N bodies.
+        Initial angular velocity in body axes at ``t0``: one body, or N.
     t : float or (M,) array_like
         Output times (non-decreasing, >= t0), or an end time (outputs at t0 and t).
     orientation0 : optional
@@ -278,112 +217,32 @@ def simulate(
     started = time.perf_counter()
     if not isinstance(method, str):
         raise TypeError(f"Expected `method` to be a string, got {type(method).__name__}.")
-    if method not in METHODS:
-        raise _core.PolhodeError(
-            f"Expected `method` to be one of {', '.join(map(repr, METHODS))}, got {method!r}."
-        )
     _check_progress(progress)
-    torque_model: Torque | None = None if torque is None else as_torque(torque)
-    gravity = None if torque_model is None else torque_model._gravity()
-    moments, axes, batch = _resolve_body(body, gravity)
-    if not np.isfinite(moments).all():
-        raise _core.PolhodeError("Expected the principal moments of `body` to be finite.")
-    if (moments <= 0).any():
-        raise _core.PolhodeError(
-            "Expected `body` to have positive principal moments (Euler's equations need I^-1; "
-            f"a rod or a point mass has a zero moment), got {moments[moments <= 0][0]}."
-        )
-    omega = _as_float_array("omega0", omega0)
-    if omega.shape not in ((3,),) and not (omega.ndim == 2 and omega.shape[1] == 3):
-        raise _core.PolhodeError(
-            f"Expected `omega0` to have shape (3,) or (N, 3), got {_shape(omega.shape)}."
-        )
-    if not np.isfinite(omega).all():
-        raise _core.PolhodeError(f"Expected `omega0` to be finite, got {omega.tolist()}.")
-    batch = batch or omega.ndim == 2
-    omega2 = omega.reshape(-1, 3)
-    n = max(moments.shape[0], omega2.shape[0])
-    if moments.shape[0] not in (1, n) or omega2.shape[0] not in (1, n):
-        raise _core.PolhodeError(
-            f"Expected `omega0` to have shape (3,) or ({moments.shape[0]}, 3) to match `body`, "
-            f"got {_shape(omega.shape)}."
-        )
-    if moments.shape[0] != n:
-        moments = np.ascontiguousarray(np.broadcast_to(moments, (n, 3)))
-    omega_body0 = omega2 if omega2.shape[0] == n else np.tile(omega2, (n, 1))
     t0 = as_scalar("t0", t0)
-    if not math.isfinite(t0):
-        raise _core.PolhodeError(f"Expected `t0` to be finite, got {t0}.")
-    order = as_integer("order", order, allowed=(2, 4, 6))
-    max_steps = as_integer("max_steps", max_steps, minimum=1)
-    identity = axes is _IDENTITY
-    omega_p0 = omega_body0 if identity else omega_body0 @ axes
-    energy0 = 0.5 * np.sum(moments * omega_p0**2, axis=1)
-    if not np.isfinite(energy0).all():
-        raise _core.PolhodeError(
-            "Expected `omega0` and the moments of `body` to give a finite kinetic energy; "
-            "it overflows double precision."
-        )
-    times = _times(t, t0)
-    if dt is not None:
-        dt = as_scalar("dt", dt)
-        if not (math.isfinite(dt) and dt > 0):
-            raise _core.PolhodeError(f"Expected `dt` to be positive and finite, got {dt}.")
-    rtol = as_scalar("rtol", rtol)
-    if not (math.isfinite(rtol) and rtol > 0):
-        raise _core.PolhodeError(f"Expected `rtol` to be positive and finite, got {rtol}.")
-    if atol is not None:
-        atol = as_scalar("atol", atol)
-        if not (math.isfinite(atol) and atol > 0):
-            raise _core.PolhodeError(f"Expected `atol` to be positive and finite, got {atol}.")
-    if method == "auto":
-        method = "exact" if torque_model is None else "dop853"
-    q_body0 = _orientation(orientation0, n)
-    spec = None if torque_model is None else torque_model._spec(axes)
+    times = _as_float_array("t", t)
+    if np.ndim(t) == 0:
+        times = np.array([t0, float(times[0])])
     callback, bar = _progress(progress)
     try:
-        # The core converts to principal axes and back, and computes L and T (in parallel).
-        omega_body, quaternion, l_space, l_body, energy, stats = _core.simulate(
-            moments,
-            omega_body0,
-            q_body0,
+        outputs = _core.simulate(
+            _body(body),
+            _as_float_array("omega0", omega0),
             times,
+            orientation0=_orientation0(orientation0),
             t0=t0,
             method=method,
-            dt=dt,
-            order=order,
-            rtol=rtol,
-            atol=atol,
-            torque=spec,
-            with_attitude=bool(orientation),
-            max_steps=max_steps,
+            dt=None if dt is None else as_scalar("dt", dt),
+            order=as_integer("order", order),
+            rtol=as_scalar("rtol", rtol),
+            atol=None if atol is None else as_scalar("atol", atol),
+            torque=None if torque is None else as_torque(torque),
+            orientation=bool(orientation),
+            max_steps=as_integer("max_steps", max_steps),
             progress=callback,
-            axes=None if identity else np.ascontiguousarray(axes),
         )
     finally:
         if bar is not None:
             bar.close()
-    info = {
-        "method": method,
-        "steps": stats[:, 0],
-        "rejected_steps": stats[:, 1],
-        "evaluations": stats[:, 2],
-        "wall_time": time.perf_counter() - started,
-    }
-    if not batch:
-        info.update({k: int(v[0]) for k, v in info.items() if isinstance(v, np.ndarray)})
-
-    def pick(array: Any) -> Any:
-        """A batch keeps its leading N; a single body drops it."""
-        return array if batch or array is None else array[0]
-
-    return Trajectory(
-        t=times,
-        omega=pick(omega_body),
-        quaternion=pick(quaternion),
-        angular_momentum=pick(l_space),
-        angular_momentum_body=pick(l_body),
-        energy=pick(energy),
-        moments=pick(moments),
-        stats=info,
-    )
+    stats = {k: outputs.pop(k) for k in ("method", "steps", "rejected_steps", "evaluations")}
+    stats["wall_time"] = time.perf_counter() - started
+    return Trajectory(t=times, stats=stats, **{k: outputs.get(k) for k in OUTPUTS})

@@ -1,29 +1,9 @@
-//! The Python exceptions and the mapping from the core's `Error` to them.
+//! The core's `Error` carried to Python as the typed exceptions of `polhode.errors`, with the
+//! argument at fault (`argument`) and, in a batch, the body (`body`) as attributes.
 
-use pyo3::create_exception;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
-
-create_exception!(
-    polhode,
-    PolhodeError,
-    PyValueError,
-    "Base class of polhode's domain errors (a ValueError)."
-);
-create_exception!(
-    polhode,
-    InertiaError,
-    PolhodeError,
-    "An inertia tensor that is asymmetric, not positive semidefinite or breaks I1 + I2 >= I3."
-);
-
-/// Adds the exception types to the module.
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    let py = m.py();
-    m.add("PolhodeError", py.get_type::<PolhodeError>())?;
-    m.add("InertiaError", py.get_type::<InertiaError>())?;
-    Ok(())
-}
+use pyo3::types::PyDict;
 
 /// The core's error, carried to Python.
 pub(crate) struct CoreError(pub polhode::Error);
@@ -34,16 +14,67 @@ impl From<polhode::Error> for CoreError {
     }
 }
 
+/// The class of `polhode.errors` for each kind of core error.
+fn class_name(error: &polhode::Error) -> &'static str {
+    use polhode::Error as E;
+    match error {
+        E::NonFinite { .. } => "NonFiniteError",
+        E::NonPositive { .. } => "NonPositiveError",
+        E::Shape { .. } => "ShapeError",
+        E::InvalidInertia { .. } => "InertiaError",
+        E::InvalidArgument { .. } => "ArgumentError",
+        E::NoConvergence { .. } => "ConvergenceError",
+        _ => "PolhodeError",
+    }
+}
+
+fn raise(
+    py: Python<'_>,
+    class: &str,
+    message: String,
+    argument: Option<&str>,
+    body: Option<usize>,
+) -> PyErr {
+    let made = (|| -> PyResult<PyErr> {
+        let class = py.import("polhode.errors")?.getattr(class)?;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("argument", argument)?;
+        kwargs.set_item("body", body)?;
+        Ok(PyErr::from_value(
+            class.call((message.clone(),), Some(&kwargs))?,
+        ))
+    })();
+    made.unwrap_or_else(|_| PyValueError::new_err(message))
+}
+
 impl From<CoreError> for PyErr {
     fn from(error: CoreError) -> PyErr {
-        let message = error.0.to_string();
-        match error.0 {
-            polhode::Error::InvalidInertia { .. } => InertiaError::new_err(message),
-            polhode::Error::NoConvergence { .. } => PyRuntimeError::new_err(message),
-            polhode::Error::Interrupted => PyKeyboardInterrupt::new_err(message),
-            _ => PolhodeError::new_err(message),
+        let (body, inner) = match error.0 {
+            polhode::Error::Body { body, error } => (Some(body), *error),
+            other => (None, other),
+        };
+        if let polhode::Error::Interrupted = inner {
+            return PyKeyboardInterrupt::new_err(inner.to_string());
         }
+        Python::attach(|py| {
+            raise(
+                py,
+                class_name(&inner),
+                inner.to_string(),
+                inner.argument(),
+                body,
+            )
+        })
     }
+}
+
+/// An `ArgumentError` naming `name`, for what the binding itself parses (a method's name).
+pub(crate) fn argument_error(name: &str, reason: &str) -> PyErr {
+    CoreError(polhode::Error::InvalidArgument {
+        name: name.into(),
+        reason: reason.into(),
+    })
+    .into()
 }
 
 /// `Result` whose error converts to a Python exception.

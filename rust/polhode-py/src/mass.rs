@@ -126,8 +126,8 @@ impl PyMassProperties {
     }
 
     #[staticmethod]
-    fn cone(mass: f64, radius: f64, height: f64) -> CoreResult<Self> {
-        wrap(MassProperties::cone(mass, radius, height))
+    fn cone(mass: f64, radius: f64, length: f64) -> CoreResult<Self> {
+        wrap(MassProperties::cone(mass, radius, length))
     }
 
     #[staticmethod]
@@ -250,13 +250,13 @@ impl PyMassProperties {
         Self(self.0 + other.0)
     }
 
-    fn angular_momentum<'py>(
+    fn angular_momentum_body<'py>(
         &self,
         py: Python<'py>,
         omega: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let omega = finite_vector("omega", &omega)?;
-        Ok(vector_to_py(py, &self.0.angular_momentum(&omega)))
+        Ok(vector_to_py(py, &self.0.angular_momentum_body(&omega)))
     }
 
     fn kinetic_energy(&self, omega: PyReadonlyArray1<'_, f64>) -> PyResult<f64> {
@@ -280,18 +280,7 @@ fn finite_vector(name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<nalgebra
 }
 
 fn check_rotation(name: &str, m: &nalgebra::Matrix3<f64>) -> PyResult<()> {
-    // Rotating the identity body reuses the core's check of a proper rotation.
-    match MassProperties::point(1.0).and_then(|p| p.rotated(m)) {
-        Ok(_) => Ok(()),
-        Err(polhode::Error::InvalidArgument { reason, .. }) => {
-            Err(CoreError(polhode::Error::InvalidArgument {
-                name: name.into(),
-                reason,
-            })
-            .into())
-        }
-        Err(e) => Err(CoreError(e).into()),
-    }
+    polhode::mass::check_rotation(name, m).map_err(|e| CoreError(e).into())
 }
 
 fn checked_rtol(rtol: Option<f64>) -> PyResult<f64> {

@@ -61,6 +61,14 @@ pub enum Error {
     /// The run was cancelled through its [`crate::dynamics::Monitor`].
     #[error("The integration was interrupted (its monitor was cancelled).")]
     Interrupted,
+    /// The error of one body of a batch.
+    #[error("body {body}: {error}")]
+    Body {
+        /// The body's index in the batch.
+        body: usize,
+        /// What went wrong with it.
+        error: Box<Error>,
+    },
 }
 
 impl Error {
@@ -100,7 +108,41 @@ impl Error {
                 reason,
             },
             Error::Interrupted => Error::Interrupted,
+            Error::Body { body, error } => Error::Body {
+                body,
+                error: Box::new(error.map_name(f)),
+            },
         }
+    }
+
+    /// The error of body `body` of a batch ([`Error::Interrupted`], which concerns the whole
+    /// run, is returned as it is).
+    #[must_use]
+    pub fn in_body(self, body: usize) -> Self {
+        match self {
+            Error::Interrupted => Error::Interrupted,
+            error => Error::Body {
+                body,
+                error: Box::new(error),
+            },
+        }
+    }
+
+    /// The argument at fault: the name up to its first index, field or note (`t` for
+    /// `t[3]`, `omega0` for `omega0[1]`), or `None` for an error that names none.
+    #[must_use]
+    pub fn argument(&self) -> Option<&str> {
+        let name = match self {
+            Error::NonFinite { name, .. }
+            | Error::NonPositive { name, .. }
+            | Error::Shape { name, .. }
+            | Error::InvalidInertia { name, .. }
+            | Error::InvalidArgument { name, .. } => name,
+            Error::Body { error, .. } => return error.argument(),
+            Error::NoConvergence { .. } | Error::Interrupted => return None,
+        };
+        let end = name.find(['[', ' ', '.', '(']).unwrap_or(name.len());
+        Some(&name[..end])
     }
 }
 

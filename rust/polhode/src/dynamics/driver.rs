@@ -19,6 +19,8 @@ use crate::{Error, Result};
 /// An integration method and its parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
+    /// The closed form (torque-free only).
+    Exact,
     /// Lie-Poisson splitting (see [`super::splitting`]) with fixed step `dt`.
     Splitting {
         /// Largest step.
@@ -358,7 +360,7 @@ fn substeps(t_prev: f64, t: f64, dt: f64) -> f64 {
     ((interval / dt) * (1.0 - slack)).ceil().max(1.0)
 }
 
-fn check_times(times: &[f64], t0: f64) -> Result<()> {
+pub(crate) fn check_times(times: &[f64], t0: f64) -> Result<()> {
     finite("t0", t0)?;
     let mut prev = t0;
     for (k, &t) in times.iter().enumerate() {
@@ -383,8 +385,9 @@ fn check_times(times: &[f64], t0: f64) -> Result<()> {
     Ok(())
 }
 
-fn check_method(method: &Method) -> Result<()> {
+pub(crate) fn check_method(method: &Method) -> Result<()> {
     match method {
+        Method::Exact => {}
         Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
             positive("dt", *dt)?;
         }
@@ -886,7 +889,37 @@ pub fn integrate_body(
     let mut col = Collector::new(times.len(), options.with_orientation);
     let y3 = state0.omega;
     let y7 = super::system::pack(state0);
+    if let Method::Exact = method {
+        if options.torque.is_some() {
+            return Err(Error::InvalidArgument {
+                name: "torque".into(),
+                reason: "the exact solution is torque-free; use dop853 or another integrator."
+                    .into(),
+            });
+        }
+        let free =
+            crate::exact::FreeRotation::new(*body.moments(), state0.omega, state0.orientation)?;
+        let progress = Progress::new(options);
+        for (k, &t) in times.iter().enumerate() {
+            if k % 256 == 255 {
+                progress.look(t)?;
+            }
+            let (w, q) = free.state(t - options.t0);
+            col.push(t, &w, Some(&q.coords))?;
+        }
+        progress.finish(times.last().copied().unwrap_or(options.t0));
+        return Ok(Trajectory {
+            omega: col.omega,
+            orientation: col.orientation,
+            stats: Stats {
+                steps: 0,
+                rejected_steps: 0,
+                rhs_evaluations: times.len() as u64,
+            },
+        });
+    }
     let stats = match (*method, att) {
+        (Method::Exact, _) => unreachable!("returned above"),
         (Method::Splitting { dt, order }, true) => {
             run_splitting::<true>(body, state0, times, options, dt, order, &mut col)
         }

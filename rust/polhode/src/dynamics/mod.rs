@@ -38,8 +38,10 @@ pub mod splitting;
 mod state;
 mod system;
 pub mod torque;
+mod torque_spec;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
+pub(crate) use driver::{check_method, check_times};
 pub use driver::{
     integrate, integrate_batch, integrate_body, Dop853Options, Method, Monitor, Options, Stats,
     Trajectory,
@@ -56,3 +58,4 @@ pub use state::{Moments, State};
 pub use torque::{
     BodyFixed, Function, Gravity, GravityGradient, Segment, SpaceFixed, Sum, Torque, Window,
 };
+pub use torque_spec::{BodyContext, FunctionSpec, TorqueFn, TorqueSpec};

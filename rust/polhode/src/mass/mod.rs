@@ -221,7 +221,7 @@ impl MassProperties {
     }
 
     /// Angular momentum `L = I w` about the centre of mass, `omega` in body axes.
-    pub fn angular_momentum(&self, omega: &Vector3<f64>) -> Vector3<f64> {
+    pub fn angular_momentum_body(&self, omega: &Vector3<f64>) -> Vector3<f64> {
         self.inertia() * omega
     }
 
@@ -292,7 +292,7 @@ fn check_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
 
 /// A proper rotation: finite, orthogonal and with det = +1, each to `1e-9` (a rotation typed
 /// with ten digits passes; a scaled or reflected matrix does not).
-pub(crate) fn check_rotation(name: &str, r: &Matrix3<f64>) -> Result<()> {
+pub fn check_rotation(name: &str, r: &Matrix3<f64>) -> Result<()> {
     for row in 0..3 {
         for col in 0..3 {
             if !r[(row, col)].is_finite() {

@@ -1,0 +1,93 @@
+"""The exceptions of polhode: one class per kind of bad input, each naming what is at fault.
+
+Every class derives from :class:`PolhodeError`, itself a :class:`ValueError`, and carries:
+
+- ``argument``: the argument at fault (``"omega0"``, ``"t"``, ``"body"``...), or None;
+- ``body``: in a batch, the index of the body at fault, or None.
+
+``str(error)`` is the message, prefixed with ``body K:`` in a batch. Wrong types raise
+:class:`TypeError`; a run stopped by Ctrl-C raises :class:`KeyboardInterrupt`.
+
+Examples
+--------
+>>> import polhode as ph
+>>> try:
+...     ph.simulate([[1.0, 2.0, 3.0], [1.0, 2.0, -3.0]], [[0, 1, 0], [0, 1, 0]], 1.0)
+... except ph.PolhodeError as error:
+...     print(type(error).__name__, error.argument, error.body)
+ArgumentError body 1
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "ArgumentError",
+    "ConvergenceError",
+    "InertiaError",
+    "NonFiniteError",
+    "NonPositiveError",
+    "PolhodeError",
+    "ShapeError",
+]
+
+
+def _rebuild(cls: type[PolhodeError], message: str, argument: str | None, body: int | None) -> Any:
+    return cls(message, argument=argument, body=body)
+
+
+class PolhodeError(ValueError):
+    """Base class of polhode's errors about values (a ValueError).
+
+    Parameters
+    ----------
+    message : str
+        What was expected and what came.
+    argument : str, optional
+        The argument at fault.
+    body : int, optional
+        The index of the body at fault in a batch.
+    """
+
+    def __init__(self, message: str, *, argument: str | None = None, body: int | None = None):
+        super().__init__(message)
+        self.message = message
+        self.argument = argument
+        self.body = body
+
+    def __str__(self) -> str:
+        return self.message if self.body is None else f"body {self.body}: {self.message}"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (_rebuild, (type(self), self.message, self.argument, self.body))
+
+    def for_body(self, body: int | None) -> PolhodeError:
+        """The same error, about body ``body`` (e.g. renumbered from a block to a batch)."""
+        return type(self)(self.message, argument=self.argument, body=body)
+
+
+class ShapeError(PolhodeError):
+    """An array of the wrong shape, or a batch whose sizes disagree."""
+
+
+class NonFiniteError(PolhodeError):
+    """A NaN or an infinity where a finite number is needed."""
+
+
+class NonPositiveError(PolhodeError):
+    """Zero or a negative number where a positive one is needed."""
+
+
+class InertiaError(PolhodeError):
+    """A tensor that is not an inertia tensor (asymmetric, not positive semidefinite, or
+    breaking the triangle inequality I1 + I2 >= I3)."""
+
+
+class ArgumentError(PolhodeError):
+    """Any other invalid value: an unknown option, an inconsistent combination."""
+
+
+class ConvergenceError(PolhodeError):
+    """An iterative method that did not converge (e.g. the implicit midpoint's Newton
+    iteration on a step too large for the motion)."""

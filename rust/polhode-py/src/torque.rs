@@ -1,0 +1,124 @@
+//! Torque models from their Python objects (`polhode.torque`), read by their named fields into
+//! the core's [`TorqueSpec`]; the core validates, builds and rotates them.
+
+use std::sync::{Arc, Mutex};
+
+use nalgebra::{UnitQuaternion, Vector3};
+use polhode::dynamics::{FunctionSpec, TorqueSpec};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+
+use crate::errors::CoreError;
+
+/// The first Python exception raised by a torque function, kept to re-raise as it was.
+pub(crate) type Raised = Arc<Mutex<Option<PyErr>>>;
+
+fn vector(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector3<f64>> {
+    let v: [f64; 3] = obj.getattr(name)?.extract()?;
+    Ok(Vector3::from(v))
+}
+
+fn optional_vector(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<Vector3<f64>>> {
+    let value = obj.getattr(name)?;
+    if value.is_none() {
+        return Ok(None);
+    }
+    let v: [f64; 3] = value.extract()?;
+    Ok(Some(Vector3::from(v)))
+}
+
+/// The spec of a `polhode.torque` model, dispatched on its `kind` (its class name).
+pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<TorqueSpec> {
+    let kind: String = obj.getattr("kind").and_then(|k| k.extract()).map_err(|_| {
+        let name = obj
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        PyTypeError::new_err(format!(
+            "Expected `torque` to be a polhode.torque model or a callable, got {name}."
+        ))
+    })?;
+    Ok(match kind.as_str() {
+        "BodyFixed" => TorqueSpec::BodyFixed(vector(obj, "torque")?),
+        "SpaceFixed" => TorqueSpec::SpaceFixed(vector(obj, "torque")?),
+        "Gravity" => TorqueSpec::Gravity {
+            gravity: vector(obj, "gravity")?,
+            pivot: optional_vector(obj, "pivot")?,
+            mass: obj.getattr("mass")?.extract()?,
+            center_of_mass: optional_vector(obj, "center_of_mass")?,
+        },
+        "GravityGradient" => TorqueSpec::GravityGradient {
+            mean_motion: obj.getattr("mean_motion")?.extract()?,
+            orbit_normal: vector(obj, "orbit_normal")?,
+            radial0: vector(obj, "radial0")?,
+        },
+        "Window" => TorqueSpec::Window {
+            start: obj.getattr("start")?.extract()?,
+            end: obj.getattr("end")?.extract()?,
+            torque: Box::new(torque_spec(&obj.getattr("torque")?, raised)?),
+        },
+        "Sum" => {
+            let terms: Vec<Bound<'_, PyAny>> = obj.getattr("terms")?.extract()?;
+            TorqueSpec::Sum(
+                terms
+                    .iter()
+                    .map(|term| torque_spec(term, raised))
+                    .collect::<PyResult<_>>()?,
+            )
+        }
+        "Function" => {
+            // `_call(t, omega, quaternion)` calls the user's function and checks what it
+            // returned; its first exception is kept and raised as it was.
+            let call = obj.getattr("_call")?.unbind();
+            let raised = Arc::clone(raised);
+            let function = move |t: f64, w: &Vector3<f64>, q: &UnitQuaternion<f64>| {
+                Python::attach(|py| -> polhode::Result<Vector3<f64>> {
+                    let result = call
+                        .call1(py, (t, [w.x, w.y, w.z], [q.i, q.j, q.k, q.w]))
+                        .and_then(|value| value.extract::<[f64; 3]>(py));
+                    result.map(Vector3::from).map_err(|error| {
+                        let message = error.to_string();
+                        if let Ok(mut slot) = raised.lock() {
+                            slot.get_or_insert(error);
+                        }
+                        polhode::Error::InvalidArgument {
+                            name: "torque".into(),
+                            reason: format!("the function raised {message}"),
+                        }
+                    })
+                })
+            };
+            TorqueSpec::Function(FunctionSpec {
+                function: Arc::new(function),
+                depends_on_orientation: obj.getattr("depends_on_orientation")?.extract()?,
+                depends_on_omega: obj.getattr("depends_on_omega")?.extract()?,
+                discontinuities: obj.getattr("discontinuities")?.extract()?,
+            })
+        }
+        other => {
+            return Err(PyTypeError::new_err(format!(
+                "Expected `torque` to be a polhode.torque model or a callable, got kind {other:?}."
+            )))
+        }
+    })
+}
+
+/// Whether the spec calls into Python (then the bodies run one after another).
+pub(crate) fn calls_python(spec: &TorqueSpec) -> bool {
+    match spec {
+        TorqueSpec::Function(_) => true,
+        TorqueSpec::Window { torque, .. } => calls_python(torque),
+        TorqueSpec::Sum(terms) => terms.iter().any(calls_python),
+        _ => false,
+    }
+}
+
+/// Checks a torque model's own parameters (called by its constructor).
+#[pyfunction]
+pub fn check_torque(torque: &Bound<'_, PyAny>) -> PyResult<()> {
+    let raised: Raised = Arc::new(Mutex::new(None));
+    let spec = torque_spec(torque, &raised)?;
+    spec.check().map_err(CoreError)?;
+    Ok(())
+}

@@ -1,0 +1,579 @@
+//! Trajectories of one body or a batch, reported in each body's own axes: the one path from a
+//! body as a user gives it (principal moments, an inertia tensor, mass properties) to the
+//! outputs a user reads (angular velocity, orientation, angular momentum, energy).
+//!
+//! Each body is integrated in its principal axes, where Euler's equations are diagonal: with
+//! `V` the principal axes (columns, in body coordinates, a proper rotation),
+//! `omega_p = V^T omega_b` and `R_p = R_b V`. A torque, given in body axes, is rotated into the
+//! principal axes in one place ([`InFrame`]), whatever its model. The outputs are turned back
+//! into body axes, quaternions kept continuous in time (`q` and `-q` are one rotation).
+//!
+//! ```
+//! use nalgebra::{UnitQuaternion, Vector3};
+//! use polhode::dynamics::Method;
+//! use polhode::simulation::{simulate, Body, Simulation};
+//!
+//! // Two bodies at once, by the exact solution, at t = 0 and t = 10.
+//! let bodies = [Body::Moments(Vector3::new(1.0, 2.0, 3.0)), Body::Moments(Vector3::new(2.0, 2.0, 5.0))];
+//! let omega0 = [Vector3::new(0.1, 1.0, 0.1), Vector3::new(0.3, 0.0, 1.0)];
+//! let run = Simulation::new(Method::Exact);
+//! let out = simulate(&run, &bodies, &omega0, &[UnitQuaternion::identity()], &[0.0, 10.0], None)?;
+//! let energy = out.column("energy").unwrap();
+//! // Two bodies x two times; T is conserved.
+//! assert!((energy[1] - energy[0]).abs() <= 1e-15 * energy[0]);
+//! # Ok::<(), polhode::Error>(())
+//! ```
+
+use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
+use rayon::prelude::*;
+
+use crate::dynamics::{
+    integrate_body, BodyContext, Method, Moments, Monitor, Options, Segment, State, Stats, Torque,
+    TorqueSpec,
+};
+use crate::error::finite;
+use crate::mass::{check_rotation, MassProperties};
+use crate::{Error, Result};
+
+/// A body as [`simulate`] takes it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Body {
+    /// Principal moments (any order, each positive): the body's axes are its principal axes.
+    Moments(Vector3<f64>),
+    /// An inertia tensor in the body's axes (about the pivot, for a heavy top).
+    Inertia(Matrix3<f64>),
+    /// Mass properties: integrated about the centre of mass, or about the pivot of a
+    /// [`TorqueSpec::Gravity`], which then takes the mass and centre of mass from here.
+    MassProperties(MassProperties),
+}
+
+/// The settings of a run, shared by every body.
+#[derive(Clone)]
+pub struct Simulation {
+    /// The method (with [`Method::Exact`], the closed form; torque-free only).
+    pub method: Method,
+    /// The time of the initial state.
+    pub t0: f64,
+    /// Whether to report the orientation (and L in space).
+    pub with_orientation: bool,
+    /// Largest number of steps per body.
+    pub max_steps: u64,
+    /// External torque, in body axes.
+    pub torque: Option<TorqueSpec>,
+    /// Run the bodies on the rayon pool (true) or one after another on the calling thread.
+    pub parallel: bool,
+}
+
+impl Simulation {
+    /// A torque-free run from `t0 = 0` with the orientation, in parallel.
+    #[must_use]
+    pub fn new(method: Method) -> Self {
+        Self {
+            method,
+            t0: 0.0,
+            with_orientation: true,
+            max_steps: Options::default().max_steps,
+            torque: None,
+            parallel: true,
+        }
+    }
+}
+
+/// A quantity reported at each output time, in the body's own axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    /// Angular velocity, body axes (3).
+    Omega,
+    /// Body-to-space orientation, scalar-last quaternion `(x, y, z, w)`, continuous in time (4).
+    Quaternion,
+    /// Angular momentum in space axes (3): conserved without torque.
+    AngularMomentumSpace,
+    /// Angular momentum in body axes (3).
+    AngularMomentumBody,
+    /// Rotational kinetic energy (1).
+    Energy,
+}
+
+impl Quantity {
+    /// Every quantity, in the order of [`Outputs::columns`].
+    pub const ALL: [Quantity; 5] = [
+        Quantity::Omega,
+        Quantity::Quaternion,
+        Quantity::AngularMomentumSpace,
+        Quantity::AngularMomentumBody,
+        Quantity::Energy,
+    ];
+
+    /// The name users read (the Python `Trajectory` attribute).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Omega => "omega",
+            Quantity::Quaternion => "quaternion",
+            Quantity::AngularMomentumSpace => "angular_momentum_space",
+            Quantity::AngularMomentumBody => "angular_momentum_body",
+            Quantity::Energy => "energy",
+        }
+    }
+
+    /// Numbers per output time (0 for a scalar, which has no trailing axis).
+    #[must_use]
+    pub fn width(self) -> usize {
+        match self {
+            Quantity::Quaternion => 4,
+            Quantity::Energy => 0,
+            _ => 3,
+        }
+    }
+
+    /// Whether it needs the orientation (absent without it).
+    #[must_use]
+    pub fn needs_orientation(self) -> bool {
+        matches!(self, Quantity::Quaternion | Quantity::AngularMomentumSpace)
+    }
+}
+
+/// One body's state at one output time, in its principal axes, with what the quantities need.
+struct Sample<'a> {
+    body: &'a Prepared,
+    omega: &'a Vector3<f64>,
+    orientation: Option<&'a UnitQuaternion<f64>>,
+}
+
+impl Sample<'_> {
+    /// Writes `quantity` into `out` (its [`Quantity::width`] numbers, or one).
+    fn write(&self, quantity: Quantity, out: &mut [f64], previous: &mut Option<Quaternion<f64>>) {
+        let moments = self.body.moments.moments();
+        let l = moments.component_mul(self.omega);
+        let to_body = |v: Vector3<f64>| match &self.body.frame {
+            Some(frame) => frame.matrix * v,
+            None => v,
+        };
+        match quantity {
+            Quantity::Omega => out.copy_from_slice(to_body(*self.omega).as_slice()),
+            Quantity::AngularMomentumBody => out.copy_from_slice(to_body(l).as_slice()),
+            Quantity::Energy => out[0] = 0.5 * self.omega.dot(&l),
+            Quantity::AngularMomentumSpace => {
+                if let Some(q) = self.orientation {
+                    out.copy_from_slice((q * l).as_slice());
+                }
+            }
+            Quantity::Quaternion => {
+                if let Some(q) = self.orientation {
+                    // R_b = R_p V^T.
+                    let mut q = match &self.body.frame {
+                        Some(frame) => (q * frame.rotation.inverse()).into_inner(),
+                        None => q.into_inner(),
+                    };
+                    // One sign per trajectory: continuous in time.
+                    if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
+                        q = -q;
+                    }
+                    *previous = Some(q);
+                    out.copy_from_slice(&[q.i, q.j, q.k, q.w]);
+                }
+            }
+        }
+    }
+}
+
+/// The outputs of [`simulate`]: for each [`Quantity`] present, N x M x width numbers,
+/// body-major, then the principal moments (N x 3) and the cost per body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outputs {
+    /// Bodies.
+    pub n: usize,
+    /// Output times.
+    pub m: usize,
+    /// The quantities present (those needing the orientation only with it) and their numbers.
+    pub columns: Vec<(Quantity, Vec<f64>)>,
+    /// The principal moments each body was integrated with (about the pivot for a heavy top),
+    /// N x 3, ascending for a body given by a tensor or mass properties.
+    pub moments: Vec<f64>,
+    /// What each body cost.
+    pub stats: Vec<Stats>,
+}
+
+impl Outputs {
+    /// The numbers of the quantity named `name`, if present.
+    #[must_use]
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns
+            .iter()
+            .find(|(q, _)| q.name() == name)
+            .map(|(_, data)| data.as_slice())
+    }
+}
+
+/// The principal axes of a body given in other axes: the columns of `matrix` (a rotation), and
+/// the same rotation as a quaternion.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    matrix: Matrix3<f64>,
+    rotation: UnitQuaternion<f64>,
+}
+
+impl Frame {
+    /// `None` for the identity (a body already in principal axes).
+    fn of(axes: &Matrix3<f64>) -> Option<Self> {
+        (*axes != Matrix3::identity()).then(|| Self {
+            matrix: *axes,
+            rotation: UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+                *axes,
+            )),
+        })
+    }
+}
+
+/// A torque given in body axes, seen from the principal axes it is integrated in:
+/// `tau_p(t, w_p, R_p) = V^T tau_b(t, V w_p, R_p V^T)`.
+struct InFrame<T> {
+    inner: T,
+    frame: Frame,
+}
+
+impl<T: Torque> Torque for InFrame<T> {
+    fn torque_body(
+        &self,
+        t: f64,
+        omega: &Vector3<f64>,
+        orientation: &UnitQuaternion<f64>,
+    ) -> Vector3<f64> {
+        let (w, q) = self.to_body(omega, orientation);
+        self.frame.matrix.tr_mul(&self.inner.torque_body(t, &w, &q))
+    }
+    fn try_torque_body(
+        &self,
+        t: f64,
+        omega: &Vector3<f64>,
+        orientation: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        let (w, q) = self.to_body(omega, orientation);
+        Ok(self
+            .frame
+            .matrix
+            .tr_mul(&self.inner.try_torque_body(t, &w, &q)?))
+    }
+    fn try_torque_body_in(
+        &self,
+        segment: &Segment,
+        t: f64,
+        omega: &Vector3<f64>,
+        orientation: &UnitQuaternion<f64>,
+    ) -> Result<Vector3<f64>> {
+        let (w, q) = self.to_body(omega, orientation);
+        let tau = self.inner.try_torque_body_in(segment, t, &w, &q)?;
+        Ok(self.frame.matrix.tr_mul(&tau))
+    }
+    fn depends_on_orientation(&self) -> bool {
+        self.inner.depends_on_orientation()
+    }
+    fn depends_on_omega(&self) -> bool {
+        self.inner.depends_on_omega()
+    }
+    fn discontinuities(&self) -> Vec<f64> {
+        self.inner.discontinuities()
+    }
+}
+
+impl<T> InFrame<T> {
+    fn to_body(
+        &self,
+        omega: &Vector3<f64>,
+        orientation: &UnitQuaternion<f64>,
+    ) -> (Vector3<f64>, UnitQuaternion<f64>) {
+        (
+            self.frame.matrix * omega,
+            orientation * self.frame.rotation.inverse(),
+        )
+    }
+}
+
+/// A body ready to integrate: validated principal moments, its frame, its torque.
+struct Prepared {
+    moments: Moments,
+    frame: Option<Frame>,
+    torque: Option<Box<dyn Torque + Send>>,
+}
+
+const MOMENTS_REASON: &str = "expected positive principal moments (Euler's equations need I^-1; \
+                              a rod or a point mass has a zero moment)";
+
+fn prepare(body: &Body, torque: Option<&TorqueSpec>) -> Result<Prepared> {
+    let pivot = torque.and_then(TorqueSpec::pivot);
+    let (moments, axes, context) = match body {
+        Body::Moments(m) => {
+            for k in 0..3 {
+                if !(m[k].is_finite() && m[k] > 0.0) {
+                    return Err(Error::InvalidArgument {
+                        name: "body".into(),
+                        reason: format!("{MOMENTS_REASON}, got {:?}.", [m[0], m[1], m[2]]),
+                    });
+                }
+            }
+            let context = BodyContext {
+                inertia: Matrix3::from_diagonal(m),
+                mass_about_pivot: None,
+            };
+            (*m, Matrix3::identity(), context)
+        }
+        Body::Inertia(tensor) => {
+            let p =
+                crate::eigen::symmetric_eigen3_with(tensor, crate::eigen::DEFAULT_RTOL, "body")?;
+            let context = BodyContext {
+                inertia: *tensor,
+                mass_about_pivot: None,
+            };
+            (p.moments, p.axes, context)
+        }
+        Body::MassProperties(mp) => {
+            let (p, context) = match pivot {
+                Some(pivot) => {
+                    let inertia = mp.inertia_about(&pivot);
+                    let p = crate::eigen::symmetric_eigen3_with(
+                        &inertia,
+                        crate::eigen::DEFAULT_RTOL,
+                        "body",
+                    )?;
+                    let context = BodyContext {
+                        inertia,
+                        mass_about_pivot: Some((mp.mass(), mp.center_of_mass() - pivot)),
+                    };
+                    (p, context)
+                }
+                None => (
+                    mp.principal(),
+                    BodyContext {
+                        inertia: mp.inertia(),
+                        mass_about_pivot: None,
+                    },
+                ),
+            };
+            (p.moments, p.axes, context)
+        }
+    };
+    if !moments.iter().all(|&m| m.is_finite() && m > 0.0) {
+        return Err(Error::InvalidArgument {
+            name: "body".into(),
+            reason: format!(
+                "{MOMENTS_REASON}, got {:?}.",
+                [moments[0], moments[1], moments[2]]
+            ),
+        });
+    }
+    let moments = Moments::new(moments).map_err(|e| e.map_name(|_| "body".into()))?;
+    let frame = Frame::of(&axes);
+    let torque = match torque {
+        None => None,
+        Some(spec) => {
+            let built = spec.build(&context)?;
+            Some(match frame {
+                Some(frame) => Box::new(InFrame {
+                    inner: built,
+                    frame,
+                }) as Box<dyn Torque + Send>,
+                None => built,
+            })
+        }
+    };
+    Ok(Prepared {
+        moments,
+        frame,
+        torque,
+    })
+}
+
+/// The initial state of one body in its principal axes, checked.
+fn initial_state(
+    body: &Prepared,
+    omega0: &Vector3<f64>,
+    orientation0: &UnitQuaternion<f64>,
+) -> Result<State> {
+    for k in 0..3 {
+        if !omega0[k].is_finite() {
+            finite("omega0", omega0[k])?;
+        }
+    }
+    let energy = body.moments.kinetic_energy(&match &body.frame {
+        Some(frame) => frame.matrix.tr_mul(omega0),
+        None => *omega0,
+    });
+    if !energy.is_finite() {
+        return Err(Error::InvalidArgument {
+            name: "omega0".into(),
+            reason: "the kinetic energy of `omega0` with these moments overflows double precision."
+                .into(),
+        });
+    }
+    Ok(match &body.frame {
+        // omega_p = V^T omega_b; R_p = R_b V.
+        Some(frame) => State::new(frame.matrix.tr_mul(omega0), orientation0 * frame.rotation),
+        None => State::new(*omega0, *orientation0),
+    })
+}
+
+/// A quaternion `(x, y, z, w)` as an orientation: finite and non-zero, normalised.
+pub fn orientation_from_quaternion(name: &str, q: [f64; 4]) -> Result<UnitQuaternion<f64>> {
+    for (k, v) in q.iter().enumerate() {
+        if !v.is_finite() {
+            finite(&format!("{name}[{k}]"), *v)?;
+        }
+    }
+    let q = Quaternion::new(q[3], q[0], q[1], q[2]);
+    if q.norm() == 0.0 || !q.norm().is_finite() {
+        return Err(Error::InvalidArgument {
+            name: name.into(),
+            reason: "expected a non-zero quaternion (x, y, z, w), got 0.".into(),
+        });
+    }
+    Ok(UnitQuaternion::from_quaternion(q))
+}
+
+/// A rotation matrix as an orientation: a proper rotation to `1e-9`.
+pub fn orientation_from_matrix(name: &str, r: &Matrix3<f64>) -> Result<UnitQuaternion<f64>> {
+    check_rotation(name, r)?;
+    Ok(UnitQuaternion::from_rotation_matrix(
+        &Rotation3::from_matrix_unchecked(*r),
+    ))
+}
+
+/// A slice of an output column handed to one body; the bodies' ranges are disjoint.
+#[derive(Clone, Copy)]
+struct Column(*mut f64);
+// SAFETY: each body writes only its own range of a column (see `Column::rows`).
+unsafe impl Send for Column {}
+unsafe impl Sync for Column {}
+
+impl Column {
+    /// Body `i`'s rows, `len` numbers from `i * len`.
+    ///
+    /// # Safety
+    /// The column holds at least `(i + 1) * len` numbers and no two live slices share a body.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn rows<'a>(self, i: usize, len: usize) -> &'a mut [f64] {
+        // SAFETY: in bounds and disjoint, by the caller's contract.
+        unsafe { std::slice::from_raw_parts_mut(self.0.add(i * len), len) }
+    }
+}
+
+/// Integrates N bodies from their initial angular velocities (body axes) and orientations to
+/// the output times `t` (finite, non-decreasing, `>= run.t0`), each in its principal axes,
+/// and reports every [`Quantity`] in its own axes.
+///
+/// `bodies` and `orientation0` hold one entry shared by all or one per body (`omega0` sets N).
+/// Each body is integrated on its own, so a body's numbers are the same bit for bit alone or
+/// in a batch of any size, whatever the number of threads. On failure, the error of the first
+/// failing body by index, wrapped in [`Error::Body`] when N > 1. A cancelled `monitor` stops
+/// the run with [`Error::Interrupted`].
+pub fn simulate(
+    run: &Simulation,
+    bodies: &[Body],
+    omega0: &[Vector3<f64>],
+    orientation0: &[UnitQuaternion<f64>],
+    t: &[f64],
+    monitor: Option<&Monitor>,
+) -> Result<Outputs> {
+    let n = omega0.len();
+    for (name, len) in [("body", bodies.len()), ("orientation0", orientation0.len())] {
+        if len != 1 && len != n {
+            return Err(Error::Shape {
+                name: name.into(),
+                expected: format!("one, or one per body ({n})"),
+                got: len.to_string(),
+            });
+        }
+    }
+    if t.is_empty() {
+        return Err(Error::Shape {
+            name: "t".into(),
+            expected: "(M,) with M >= 1".into(),
+            got: "(0,)".into(),
+        });
+    }
+    // The settings shared by every body, checked once here (and so even for N = 0).
+    crate::dynamics::check_times(t, run.t0)?;
+    crate::dynamics::check_method(&run.method)?;
+    if run.max_steps == 0 {
+        return Err(Error::NonPositive {
+            name: "max_steps".into(),
+            value: 0.0,
+        });
+    }
+    if let (Method::Exact, Some(_)) = (&run.method, &run.torque) {
+        return Err(Error::InvalidArgument {
+            name: "torque".into(),
+            reason: "the exact solution is torque-free; use dop853 or another integrator.".into(),
+        });
+    }
+    if let Some(torque) = &run.torque {
+        torque.check()?;
+    }
+    let m = t.len();
+    let columns: Vec<Quantity> = Quantity::ALL
+        .into_iter()
+        .filter(|q| run.with_orientation || !q.needs_orientation())
+        .collect();
+    let mut data: Vec<Vec<f64>> = columns
+        .iter()
+        .map(|q| vec![0.0; n * m * q.width().max(1)])
+        .collect();
+    let mut moments = vec![0.0; 3 * n];
+    let shared: Vec<(Column, usize)> = data
+        .iter_mut()
+        .zip(&columns)
+        .map(|(d, q)| (Column(d.as_mut_ptr()), m * q.width().max(1)))
+        .collect();
+    let moments_column = Column(moments.as_mut_ptr());
+    let one = |i: usize| -> Result<Stats> {
+        let at = |len: usize| if len == 1 { 0 } else { i };
+        let body = prepare(&bodies[at(bodies.len())], run.torque.as_ref())?;
+        let state = initial_state(&body, &omega0[i], &orientation0[at(orientation0.len())])?;
+        let options = Options {
+            t0: run.t0,
+            with_orientation: run.with_orientation,
+            torque: body.torque.as_deref().map(|t| t as &dyn Torque),
+            max_steps: run.max_steps,
+            monitor,
+        };
+        let trajectory = integrate_body(&run.method, &body.moments, &state, t, &options)?;
+        // SAFETY: body i's ranges; every i is visited once.
+        let mut rows: Vec<&mut [f64]> = shared
+            .iter()
+            .map(|&(column, len)| unsafe { column.rows(i, len) })
+            .collect();
+        unsafe { moments_column.rows(i, 3) }.copy_from_slice(body.moments.moments().as_slice());
+        let mut previous = None;
+        for (j, omega) in trajectory.omega.iter().enumerate() {
+            let sample = Sample {
+                body: &body,
+                omega,
+                orientation: trajectory.orientation.as_ref().map(|o| &o[j]),
+            };
+            for (quantity, row) in columns.iter().zip(rows.iter_mut()) {
+                let w = quantity.width().max(1);
+                sample.write(*quantity, &mut row[j * w..(j + 1) * w], &mut previous);
+            }
+        }
+        Ok(trajectory.stats)
+    };
+    let results: Vec<Result<Stats>> = if run.parallel && n > 1 {
+        (0..n).into_par_iter().map(one).collect()
+    } else {
+        (0..n).map(one).collect()
+    };
+    let mut stats = Vec::with_capacity(n);
+    for (i, result) in results.into_iter().enumerate() {
+        match result {
+            Ok(s) => stats.push(s),
+            Err(error) if n > 1 => return Err(error.in_body(i)),
+            Err(error) => return Err(error),
+        }
+    }
+    Ok(Outputs {
+        n,
+        m,
+        columns: columns.into_iter().zip(data).collect(),
+        moments,
+        stats,
+    })
+}

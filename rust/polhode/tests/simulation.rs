@@ -1,0 +1,277 @@
+//! The batch path: bodies as users give them, outputs in their own axes, per-body errors.
+
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use polhode::dynamics::{
+    integrate, Dop853Options, Method, Monitor, Options, SplittingOrder, State, TorqueSpec,
+};
+use polhode::simulation::{simulate, Body, Quantity, Simulation};
+use polhode::{Error, MassProperties};
+
+fn methods() -> Vec<Method> {
+    vec![
+        Method::Exact,
+        Method::Splitting {
+            dt: 1e-2,
+            order: SplittingOrder::Four,
+        },
+        Method::Midpoint { dt: 1e-2 },
+        Method::Rk4 { dt: 1e-2 },
+        Method::Dop853(Dop853Options::with_rtol(1e-11)),
+    ]
+}
+
+fn bodies() -> (Vec<Body>, Vec<Vector3<f64>>) {
+    let moments = [
+        Vector3::new(1.0, 2.0, 3.0),
+        Vector3::new(3.0, 1.0, 1.5),
+        Vector3::new(2.0, 2.0, 5.0),
+        Vector3::new(0.5, 3.0, 1.0),
+    ];
+    let omega = [
+        Vector3::new(0.1, 1.0, 0.2),
+        Vector3::new(1.0, -0.3, 0.4),
+        Vector3::new(0.2, 0.1, 2.0),
+        Vector3::new(-0.4, 0.6, 0.1),
+    ];
+    (
+        moments.iter().copied().map(Body::Moments).collect(),
+        omega.to_vec(),
+    )
+}
+
+const T: [f64; 4] = [0.0, 0.3, 1.0, 2.5];
+
+#[test]
+fn each_body_of_a_batch_is_integrated_alone() {
+    let (bodies, omega) = bodies();
+    let q0 = UnitQuaternion::from_euler_angles(0.1, -0.2, 0.3);
+    for method in methods() {
+        let run = Simulation::new(method);
+        let batch = simulate(&run, &bodies, &omega, &[q0], &T, None).unwrap();
+        let serial = simulate(
+            &Simulation {
+                parallel: false,
+                ..run.clone()
+            },
+            &bodies,
+            &omega,
+            &[q0],
+            &T,
+            None,
+        )
+        .unwrap();
+        assert_eq!(batch, serial, "{method:?}: parallel and serial differ");
+        let w = batch.column("omega").unwrap();
+        let q = batch.column("quaternion").unwrap();
+        for (i, body) in bodies.iter().enumerate() {
+            let Body::Moments(m) = body else {
+                unreachable!()
+            };
+            let alone = integrate(
+                &method,
+                m,
+                &State::new(omega[i], q0),
+                &T,
+                &Options::default(),
+            )
+            .unwrap();
+            for (j, wj) in alone.omega.iter().enumerate() {
+                let k = (i * T.len() + j) * 3;
+                assert_eq!(&w[k..k + 3], wj.as_slice(), "{method:?} body {i} time {j}");
+                let qa = alone.orientation.as_ref().unwrap()[j];
+                let k4 = (i * T.len() + j) * 4;
+                let sign = if q[k4 + 3] * qa.w + q[k4] * qa.i < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                };
+                assert_eq!(
+                    [q[k4], q[k4 + 1], q[k4 + 2], q[k4 + 3]],
+                    [sign * qa.i, sign * qa.j, sign * qa.k, sign * qa.w]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_tensor_is_reported_in_its_own_axes() {
+    let r = Rotation3::from_euler_angles(0.4, -0.7, 0.5);
+    let tensor =
+        r.matrix() * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.5)) * r.matrix().transpose();
+    let omega0 = Vector3::new(0.3, -0.8, 0.6);
+    let q0 = UnitQuaternion::from_euler_angles(0.2, 0.1, -0.3);
+    for method in methods() {
+        let out = simulate(
+            &Simulation::new(method),
+            &[Body::Inertia(tensor)],
+            &[omega0],
+            &[q0],
+            &T,
+            None,
+        )
+        .unwrap();
+        let w = out.column("omega").unwrap();
+        let lb = out.column("angular_momentum_body").unwrap();
+        let ls = out.column("angular_momentum_space").unwrap();
+        let q = out.column("quaternion").unwrap();
+        let e = out.column("energy").unwrap();
+        let l0 = q0 * (tensor * omega0);
+        for j in 0..T.len() {
+            let wj = Vector3::from_column_slice(&w[3 * j..3 * j + 3]);
+            let lbj = Vector3::from_column_slice(&lb[3 * j..3 * j + 3]);
+            let qj = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                q[4 * j + 3],
+                q[4 * j],
+                q[4 * j + 1],
+                q[4 * j + 2],
+            ));
+            // L_body = I w in the body's own axes, L_space = R_b L_body = L(0).
+            assert!(
+                (lbj - tensor * wj).norm() <= 1e-14 * lbj.norm(),
+                "{method:?}"
+            );
+            let lsj = Vector3::from_column_slice(&ls[3 * j..3 * j + 3]);
+            assert!((lsj - qj * lbj).norm() <= 1e-14 * l0.norm(), "{method:?}");
+            // Conserved to the method's own accuracy (order 2 for the midpoint rule).
+            let bound = if let Method::Midpoint { .. } = method {
+                1e-5
+            } else {
+                1e-8
+            };
+            assert!((lsj - l0).norm() <= bound * l0.norm(), "{method:?}");
+            assert!((e[j] - 0.5 * wj.dot(&(tensor * wj))).abs() <= 1e-14 * e[j]);
+        }
+        // Initial values are the inputs.
+        assert!((Vector3::from_column_slice(&w[..3]) - omega0).norm() <= 1e-15);
+    }
+}
+
+#[test]
+fn columns_without_the_orientation() {
+    let (bodies, omega) = bodies();
+    let run = Simulation {
+        with_orientation: false,
+        ..Simulation::new(Method::Exact)
+    };
+    let out = simulate(
+        &run,
+        &bodies,
+        &omega,
+        &[UnitQuaternion::identity()],
+        &T,
+        None,
+    )
+    .unwrap();
+    let names: Vec<_> = out.columns.iter().map(|(q, _)| q.name()).collect();
+    assert_eq!(names, ["omega", "angular_momentum_body", "energy"]);
+    assert!(Quantity::ALL
+        .iter()
+        .all(|q| q.needs_orientation() || out.column(q.name()).is_some()));
+}
+
+#[test]
+fn the_first_failing_body_is_named() {
+    let (mut bodies, mut omega) = bodies();
+    bodies[2] = Body::Moments(Vector3::new(1.0, 0.0, 2.0));
+    omega[3] = Vector3::new(f64::NAN, 0.0, 0.0);
+    let error = simulate(
+        &Simulation::new(Method::Rk4 { dt: 0.1 }),
+        &bodies,
+        &omega,
+        &[UnitQuaternion::identity()],
+        &T,
+        None,
+    )
+    .unwrap_err();
+    match error {
+        Error::Body { body, error } => {
+            assert_eq!(body, 2);
+            assert_eq!(error.argument(), Some("body"));
+        }
+        other => panic!("expected a body's error, got {other:?}"),
+    }
+}
+
+#[test]
+fn a_cancelled_run_is_interrupted_not_a_body_error() {
+    let (bodies, omega) = bodies();
+    let monitor = Monitor::new();
+    monitor.cancel();
+    let error = simulate(
+        &Simulation::new(Method::Rk4 { dt: 1e-3 }),
+        &bodies,
+        &omega,
+        &[UnitQuaternion::identity()],
+        &T,
+        Some(&monitor),
+    )
+    .unwrap_err();
+    assert_eq!(error, Error::Interrupted);
+}
+
+#[test]
+fn gravity_takes_mass_and_centre_of_mass_from_a_body() {
+    let top = MassProperties::cone(1.0, 0.3, 1.0).unwrap();
+    let pivot = Vector3::new(0.0, 0.0, 0.0);
+    let gravity = TorqueSpec::Gravity {
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        pivot: Some(pivot),
+        mass: None,
+        center_of_mass: None,
+    };
+    let run = Simulation {
+        torque: Some(gravity.clone()),
+        ..Simulation::new(Method::Dop853(Dop853Options::with_rtol(1e-12)))
+    };
+    let q0 = UnitQuaternion::from_euler_angles(0.3, 0.0, 0.0);
+    let omega0 = Vector3::new(0.0, 0.0, 30.0);
+    let out = simulate(
+        &run,
+        &[Body::MassProperties(top)],
+        &[omega0],
+        &[q0],
+        &T,
+        None,
+    )
+    .unwrap();
+    // The same top given by its moments about the pivot, with the mass and centre of mass.
+    let about = top.inertia_about(&pivot);
+    let explicit = Simulation {
+        torque: Some(TorqueSpec::Gravity {
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+            pivot: None,
+            mass: Some(top.mass()),
+            center_of_mass: Some(top.center_of_mass() - pivot),
+        }),
+        ..run.clone()
+    };
+    let again = simulate(
+        &explicit,
+        &[Body::Inertia(about)],
+        &[omega0],
+        &[q0],
+        &T,
+        None,
+    )
+    .unwrap();
+    let (a, b) = (out.column("omega").unwrap(), again.column("omega").unwrap());
+    for k in 0..a.len() {
+        assert!(
+            (a[k] - b[k]).abs() <= 1e-9 * 30.0,
+            "{k}: {} vs {}",
+            a[k],
+            b[k]
+        );
+    }
+    // Moments alone, without the mass, are refused.
+    let bare = simulate(
+        &run,
+        &[Body::Moments(Vector3::new(1.0, 1.0, 0.5))],
+        &[omega0],
+        &[q0],
+        &T,
+        None,
+    );
+    assert!(matches!(bare, Err(Error::InvalidArgument { ref name, .. }) if name == "torque"));
+}
