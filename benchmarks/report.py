@@ -21,7 +21,7 @@ from pathlib import Path
 
 from polhode import bench
 
-TARGET_SCIPY = 100.0  # issue 4: at least 100x scipy DOP853 at matching error
+TARGET_SCIPY = 100.0  # the target: at least 100x scipy DOP853 at matching error
 TARGET_RK4_RATE = 3e7  # body-steps per second, rk4 with orientation, N >= 1e4
 TARGET_EIGH = 10.0
 LEVELS = (1e-6, 1e-8, 1e-10, 1e-12)

@@ -75,10 +75,10 @@ def assert_close_normwise(actual, expected, rtol: float, scale: float | None = N
 def check_eigen(inertia, moments, axes, residual_eps: float = 10.0, what=""):
     """The backward-stability checks every principal() result must pass.
 
-    ||A V - V diag(I)|| <= 10 eps ||A|| (the brief's bound; a backward-stable 3x3 solver such
+    ||A V - V diag(I)|| <= 10 eps ||A|| (the project's bound; a backward-stable 3x3 solver such
     as Jacobi or implicit QR is accurate to a small multiple of eps ||A||: numpy.linalg.eigh
     measures <= 9.2 eps, typically 1.3, over 2e4 random inertia tensors; Cardano-type solvers
-    miss it by orders of magnitude, NUMERICS.md).
+    miss it by orders of magnitude).
     ||V^T V - 1|| <= 16 eps and |det V - 1| <= 16 eps: LAPACK's orthogonality bound is O(n) eps
     with an unstated constant; eigh itself measures up to 9.5 eps on the same 2e4 tensors, so
     10 eps would reject LAPACK; each of the ~10 rotations of a 3x3 Jacobi solve adds ~1-2 eps.

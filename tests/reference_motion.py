@@ -393,7 +393,7 @@ def reference_motion(moments, omega0, quat0_xyzw, times, dps=30, method="auto"):
 def closed_form_motion(moments, omega0, quat0_xyzw, times, dps=30):
     """The classical closed form (three distinct moments, off the separatrix), with
     ``mpmath.ellipfun`` for omega and ``mpmath.ellippi`` for the precession (z-x-z Euler angles
-    about the axis the angular momentum circulates about, NUMERICS.md:
+    about the axis the angular momentum circulates about:
     ``phi = G t / I3 + c (Pi(am u; n | m) - Pi(am u0; n | m))``). Only for cross-checks.
     """
     times = [float(t) for t in np.atleast_1d(np.asarray(times, dtype=float))]

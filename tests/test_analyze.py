@@ -44,7 +44,7 @@ def exact_invariants(moments, omega):
 
 
 def exact_period(moments, omega):
-    """4 K(m) / lambda, every quantity formed exactly (NUMERICS.md, both regimes)."""
+    """4 K(m) / lambda, every quantity formed exactly (both regimes)."""
     i, _, g2, t2 = exact_invariants(moments, omega)
     i1, i2, i3 = sorted(i)
     d1, d2, d3 = g2 - t2 * i1, g2 - t2 * i2, g2 - t2 * i3

@@ -1,4 +1,4 @@
-"""The hard cases of NUMERICS.md. Each must hold; the bounds are derived in the comments, not
+"""The hard cases of the numerics (docs/architecture.md). Each must hold; the bounds are derived in the comments, not
 tuned to the implementation."""
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ FAR_OFFSETS = [(1e8, 1e8, 1e8), (1e8, -2e8, 3e8), (0.0, 0.0, 1e8), (123456789.0,
 def _check_far_cube(body, offset, what):
     # Exact answer: mass 8, centre offset + 0.5 (representable), inertia 4 * 1 (each mass at
     # +-0.5 from the centre on every axis: 8 * (0.25 + 0.25) = 4). Summing second moments about
-    # the far origin and shifting back loses eps (1e8)^2 = 2 in absolute terms (NUMERICS: the
+    # the far origin and shifting back loses eps (1e8)^2 = 2 in absolute terms (measured: the
     # smallest moment came out -6.98); centring first gets it exactly. Bound: 1e-12 relative.
     assert body.mass == 8.0
     expected_com = np.asarray(offset) + 0.5
@@ -93,7 +93,7 @@ def test_heavy_sphere_plus_tiny_point_mass(direction, order):
     # Exact: I = 0.4e6 1 + mu d^2 (1 - u u^T) about the combined centre (mu = M m / (M + m)),
     # so the smallest moment's axis is u, the direction of the point from the sphere's centre
     # (the combined centre lies on that line). In the assembled tensor the 1e-6 anisotropy sits
-    # below ulp(4e5) = 5.8e-11 times 1e-5: eig(I) gets u only to ~1e-4 rad (NUMERICS). A split
+    # below ulp(4e5) = 5.8e-11 times 1e-5: eig(I) gets u only to ~1e-4 rad (measured). A split
     # (isotropic + deviatoric / square-root) representation gets it to ~eps: 1e-12 rad.
     u = np.asarray(direction) / np.linalg.norm(direction)
     point_position = 1.1 * u
@@ -169,7 +169,7 @@ def test_needle_smallest_moment(seed):
 def test_exactly_collinear_needle_has_a_zero_smallest_moment():
     # Positions on a line up to their own rounding: the exact smallest moment is ~eps^2 I3. A
     # square-root (SVD-type) representation leaves an absolute error ~ (eps s1)^2 = eps^2 I3 in
-    # it; eig(I) leaves eps I3 and, half the time, a negative moment (NUMERICS). Bound:
+    # it; eig(I) leaves eps I3 and, half the time, a negative moment (measured). Bound:
     # 0 <= I1 <= I1_exact + 100 eps^2 I3.
     masses, positions, _ = _needle(3, 0.0)
     p = ph.Body.point_masses(masses, positions).principal()
@@ -363,7 +363,7 @@ def test_rotated_near_degenerate_pair(seed, top):
 
 @pytest.mark.parametrize("seed", range(6))
 def test_trace_shift_large_isotropic_part(seed):
-    # A = 1e8 1 + 1e-8 E: a tiny residual does not make the axes right (NUMERICS: up to 1.57 rad
+    # A = 1e8 1 + 1e-8 E: a tiny residual does not make the axes right (measured: up to 1.57 rad
     # wrong without the shift); after subtracting trace/3 (exact here: Sterbenz) the solver
     # sees entries ~1e-8 and the axes are right to ~eps ||A - s 1|| / gap. The reference is the
     # exact eigensystem of the stored (rounded) matrix in 50-digit mpmath.

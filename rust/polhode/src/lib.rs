@@ -7,7 +7,7 @@
 //! This is the pure-Rust core (nalgebra only). The Python package `polhode` is a thin binding
 //! over it; a Rust user depends on this crate alone.
 //!
-//! Conventions, stated once (see `DESIGN.md`):
+//! Conventions, stated once (the repository's `docs/architecture.md` has them all):
 //! - any consistent units; mass or density is always explicit;
 //! - the inertia tensor is the full symmetric 3x3, products of inertia as tensor elements
 //!   (`I_xy = -sum m x y`);

@@ -30,7 +30,7 @@
 //!   `J(u) = int_0^u sn^2/(1 + nu sn^2) = (s^3/3) R_J(c^2, d^2, 1, 1 + nu s^2)` (s, c, d = sn, cn,
 //!   dn of u, DLMF 19.25.14), which gains `2 cel(k', 1 + nu, 0, 1)` per `2K` of `u`; on the
 //!   separatrix `J(u) = (u - atan(sqrt(nu) tanh u)/sqrt(nu)) / (1 + nu)`. (Derived here and
-//!   checked against the integration in `tests/reference_motion.py`; NUMERICS.md's
+//!   checked against the integration in `tests/reference_motion.py`; the textbook form
 //!   `G t/I3 + c (Pi(am u; n | m) - Pi(am u0; n | m))`, `c = G (I3 - I1)/(I1 I3 lambda)`, is the
 //!   same motion with polar axis `p`, but `Pi = F + n J` cancels for `n << -1`.)
 //!

@@ -5,7 +5,7 @@
 //! three moments go into `isotropic` exactly; everything else is rows of `F`, each row a
 //! `sqrt(m) r^T`. Adding bodies stacks rows and re-triangularises by Householder QR, which never
 //! squares the data: the tiny anisotropy of a heavy sphere plus a speck and the tiny moments of a
-//! needle both survive (NUMERICS.md, Mass properties).
+//! needle both survive (docs/architecture.md, Numerics).
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -9,7 +9,7 @@
 //! `A (a + b + c) / 3` and `A (a a^T + b b^T + c c^T + s s^T) / 12`. The sums are compensated
 //! (plain sums over blocks of 16 triangles, the blocks added with TwoSum, chunks combined in
 //! parallel), and the shift from `p` to the centre of mass is small: a mesh 1e8 away from the
-//! origin keeps its digits (NUMERICS.md, Mass properties). The check that a solid mesh is
+//! origin keeps its digits (docs/architecture.md, Numerics). The check that a solid mesh is
 //! closed and consistently wound runs beside the integration (`rayon::join`).
 
 use nalgebra::{Matrix3, Vector3};

@@ -3,7 +3,8 @@
 //! [`MassProperties`] keeps the second-moment matrix about the centre of mass,
 //! `C = sum m r r^T`, in a square-root form (`C = c 1 + F^T F`) rather than the inertia tensor
 //! `I = tr(C) 1 - C`: composition and principal axes then never lose the small moments of a
-//! needle or the tiny anisotropy of a heavy sphere with a speck on it (NUMERICS.md).
+//! needle or the tiny anisotropy of a heavy sphere with a speck on it (docs/architecture.md,
+//! Numerics).
 
 mod factor;
 mod mesh;
