@@ -4,8 +4,8 @@ Written apart from the Rust core, from the textbook definitions only (Landau-Lif
 Goldstein ch. 5): numpy for the everyday cases, exact rational arithmetic (``fractions``) and
 mpmath where float64 alone is not accurate enough. Nothing here imports polhode.
 
-Conventions (docs/architecture.md): the inertia tensor is the full symmetric 3x3 with products of inertia
-as tensor elements, ``I_ij = sum_p m_p (r_p^2 delta_ij - r_pi r_pj)``; principal moments
+Conventions (docs/architecture.md): the inertia tensor is the full symmetric 3x3 with products
+of inertia as tensor elements, ``I_ij = sum_p m_p (r_p^2 delta_ij - r_pi r_pj)``; principal moments
 ascending; principal axes are the columns of a proper rotation; quaternions are scalar-last
 ``(x, y, z, w)``; a rotation maps ``x_new = R x``.
 """

@@ -1,5 +1,5 @@
-"""The hard cases of the numerics (docs/architecture.md). Each must hold; the bounds are derived in the comments, not
-tuned to the implementation."""
+"""The hard cases of the numerics (docs/architecture.md). Each must hold; the bounds are derived
+in the comments, not tuned to the implementation."""
 
 from __future__ import annotations
 
