@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -101,6 +102,35 @@ def _body(body: Any) -> Any:
     if isinstance(body, list | tuple) and body and all(isinstance(b, Body) for b in body):
         return [b._core for b in body]
     return _as_float_array("body", body)
+
+
+def _available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (Linux: MemAvailable), or None."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def _check_fits(omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool) -> None:
+    """MemoryError before the work if the outputs cannot fit in this machine's memory."""
+    n = omega0.shape[0] if omega0.ndim == 2 else 1
+    per_time = 14 if orientation else 7  # the numbers of every output quantity at one time
+    size = float(n) * float(times.size) * per_time * 8
+    available = _available_memory()
+    if available is not None and size > available:
+        raise MemoryError(
+            f"The outputs of {n} bodies at {times.size} output times take {size:.3g} bytes, "
+            f"more than the {available:.3g} bytes available: ask for fewer output times `t` or "
+            "bodies, orientation=False, or run in chunks (polhode.dask)."
+        )
 
 
 def _orientation0(orientation0: Any) -> NDArray[np.float64] | None:
@@ -222,11 +252,13 @@ def simulate(
     times = _as_float_array("t", t)
     if np.ndim(t) == 0:
         times = np.array([t0, float(times[0])])
+    omega = _as_float_array("omega0", omega0)
+    _check_fits(omega, times, bool(orientation))
     callback, bar = _progress(progress)
     try:
         outputs = _core.simulate(
             _body(body),
-            _as_float_array("omega0", omega0),
+            omega,
             times,
             orientation0=_orientation0(orientation0),
             t0=t0,

@@ -1,7 +1,7 @@
 //! The core's `Error` carried to Python as the typed exceptions of `polhode.errors`, with the
 //! argument at fault (`argument`) and, in a batch, the body (`body`) as attributes.
 
-use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -53,8 +53,10 @@ impl From<CoreError> for PyErr {
             polhode::Error::Body { body, error } => (Some(body), *error),
             other => (None, other),
         };
-        if let polhode::Error::Interrupted = inner {
-            return PyKeyboardInterrupt::new_err(inner.to_string());
+        match inner {
+            polhode::Error::Interrupted => return PyKeyboardInterrupt::new_err(inner.to_string()),
+            polhode::Error::OutOfMemory { .. } => return PyMemoryError::new_err(inner.to_string()),
+            _ => {}
         }
         Python::attach(|py| {
             raise(

@@ -61,6 +61,15 @@ pub enum Error {
     /// The run was cancelled through its [`crate::dynamics::Monitor`].
     #[error("The integration was interrupted (its monitor was cancelled).")]
     Interrupted,
+    /// The outputs do not fit in memory.
+    #[error(
+        "The outputs take {bytes:.3e} bytes, more than this machine can allocate: ask for fewer \
+         output times or bodies, without the orientation, or in chunks (polhode.dask)."
+    )]
+    OutOfMemory {
+        /// The size of all the outputs.
+        bytes: f64,
+    },
     /// The error of one body of a batch.
     #[error("body {body}: {error}")]
     Body {
@@ -108,6 +117,7 @@ impl Error {
                 reason,
             },
             Error::Interrupted => Error::Interrupted,
+            Error::OutOfMemory { bytes } => Error::OutOfMemory { bytes },
             Error::Body { body, error } => Error::Body {
                 body,
                 error: Box::new(error.map_name(f)),
@@ -115,12 +125,12 @@ impl Error {
         }
     }
 
-    /// The error of body `body` of a batch ([`Error::Interrupted`], which concerns the whole
-    /// run, is returned as it is).
+    /// The error of body `body` of a batch ([`Error::Interrupted`] and
+    /// [`Error::OutOfMemory`], which concern the whole run, are returned as they are).
     #[must_use]
     pub fn in_body(self, body: usize) -> Self {
         match self {
-            Error::Interrupted => Error::Interrupted,
+            Error::Interrupted | Error::OutOfMemory { .. } => self,
             error => Error::Body {
                 body,
                 error: Box::new(error),
@@ -139,7 +149,9 @@ impl Error {
             | Error::InvalidInertia { name, .. }
             | Error::InvalidArgument { name, .. } => name,
             Error::Body { error, .. } => return error.argument(),
-            Error::NoConvergence { .. } | Error::Interrupted => return None,
+            Error::NoConvergence { .. } | Error::Interrupted | Error::OutOfMemory { .. } => {
+                return None
+            }
         };
         let end = name.find(['[', ' ', '.', '(']).unwrap_or(name.len());
         Some(&name[..end])

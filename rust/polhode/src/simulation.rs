@@ -437,6 +437,17 @@ pub fn orientation_from_matrix(name: &str, r: &Matrix3<f64>) -> Result<UnitQuate
     ))
 }
 
+/// `len` zeros, or [`Error::OutOfMemory`] (the whole output being `bytes`) if the allocation
+/// fails, rather than an abort.
+fn zeros(len: usize, bytes: f64) -> Result<Vec<f64>> {
+    let mut v = Vec::new();
+    if v.try_reserve_exact(len).is_err() {
+        return Err(Error::OutOfMemory { bytes });
+    }
+    v.resize(len, 0.0);
+    Ok(v)
+}
+
 /// A slice of an output column handed to one body; the bodies' ranges are disjoint.
 #[derive(Clone, Copy)]
 struct Column(*mut f64);
@@ -513,11 +524,13 @@ pub fn simulate(
         .into_iter()
         .filter(|q| run.with_orientation || !q.needs_orientation())
         .collect();
-    let mut data: Vec<Vec<f64>> = columns
-        .iter()
-        .map(|q| vec![0.0; n * m * q.width().max(1)])
-        .collect();
-    let mut moments = vec![0.0; 3 * n];
+    let per_time: usize = columns.iter().map(|q| q.width().max(1)).sum();
+    let bytes = (n as f64) * (m as f64) * (per_time as f64) * 8.0;
+    let mut data: Vec<Vec<f64>> = Vec::with_capacity(columns.len());
+    for quantity in &columns {
+        data.push(zeros(n * m * quantity.width().max(1), bytes)?);
+    }
+    let mut moments = zeros(3 * n, bytes)?;
     let shared: Vec<(Column, usize)> = data
         .iter_mut()
         .zip(&columns)

@@ -1,0 +1,26 @@
+"""Work too large for the machine is refused before it starts, with a way out."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import polhode as ph
+from polhode import _core
+
+
+def test_outputs_larger_than_memory_raise_memory_error_before_the_work():
+    # 1e6 bodies at 1e6 output times: 1.1e14 bytes of outputs.
+    omega0 = np.zeros((1_000_000, 3))
+    t = np.linspace(0.0, 1.0, 1_000_000)
+    with pytest.raises(MemoryError, match=r"1\.12e\+14 bytes.*fewer output times.*polhode\.dask"):
+        ph.simulate([1.0, 2.0, 3.0], omega0, t)
+
+
+def test_the_core_refuses_an_allocation_it_cannot_make():
+    """Past the Python check (e.g. memory taken meanwhile), the core's allocation fails as a
+    MemoryError, not an abort of the process."""
+    omega0 = np.zeros((1_000_000, 3))
+    t = np.linspace(0.0, 1.0, 1_000_000)
+    with pytest.raises(MemoryError, match="bytes"):
+        _core.simulate(np.array([1.0, 2.0, 3.0]), omega0, t, method="exact")
