@@ -30,7 +30,10 @@ settings.register_profile(
 settings.register_profile(
     "polhode-thorough", parent=settings.get_profile("polhode"), max_examples=2000
 )
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "polhode"))
+# CI (CI=true) runs four times the examples of a local run: about a minute on 2 cores.
+settings.register_profile("polhode-ci", parent=settings.get_profile("polhode"), max_examples=400)
+_DEFAULT_PROFILE = "polhode-ci" if os.environ.get("CI", "").lower() in ("1", "true") else "polhode"
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _DEFAULT_PROFILE))
 
 # `rtol` that merges no two distinct moments: the tests of near-degenerate tensors ask for the
 # individual axes of moments that differ by far less than any default merging tolerance.

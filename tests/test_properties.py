@@ -258,7 +258,13 @@ def test_angular_momentum_and_energy(case, omega):
     i = np.asarray(body.inertia)
     momentum = body.angular_momentum_body(omega)
     energy = body.kinetic_energy(omega)
-    scale = norm2(i) * float(omega @ omega)
-    assert_close_normwise(momentum, i @ omega, 8 * EPS, scale=norm2(i) * norm2(omega))
+    # Products that fall below the normal range are rounded in absolute steps of the smallest
+    # subnormal: each of the (at most 5) roundings of a component or of the energy adds up to
+    # one such step, which no relative bound can hold (a scale of 1e-300 * 1e-200 is 0).
+    floor = 8 * SUBNORMAL / EPS
+    scale = max(norm2(i) * float(omega @ omega), floor)
+    assert_close_normwise(
+        momentum, i @ omega, 8 * EPS, scale=max(norm2(i) * norm2(omega), floor)
+    )
     assert abs(energy - 0.5 * float(omega @ momentum)) <= 8 * EPS * scale
     assert energy >= -8 * EPS * scale
