@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from polhode.errors import ArgumentError, NonFiniteError, ShapeError
 
-__all__ = ["as_array", "as_integer", "as_rotation_matrix", "as_scalar"]
+__all__ = ["as_array", "as_float_array", "as_integer", "as_rotation_matrix", "as_scalar"]
 
 
 def _shape_str(shape: tuple[int, ...]) -> str:
@@ -32,16 +32,28 @@ def as_scalar(name: str, value: Any) -> float:
     return float(value)
 
 
-def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np.float64]:
-    """A C-contiguous float64 array of the given shape (None matches any length)."""
-    if value is None or isinstance(value, str | bytes):
-        raise TypeError(f"Expected `{name}` to be an array of numbers, got {type(value).__name__}.")
+def _kind(value: Any) -> str:
+    if isinstance(value, np.ndarray):
+        return f"an array of dtype {value.dtype}"
+    return type(value).__name__
+
+
+def as_float_array(name: str, value: Any) -> NDArray[np.float64]:
+    """A C-contiguous float64 array of any shape: TypeError naming ``name`` for anything that
+    is not real numbers (strings, None, complex numbers, objects)."""
+    if value is None or isinstance(value, str | bytes) or np.iscomplexobj(value):
+        raise TypeError(f"Expected `{name}` to be an array of real numbers, got {_kind(value)}.")
     try:
-        array = np.asarray(value, dtype=np.float64)
+        return np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
         raise TypeError(
-            f"Expected `{name}` to be an array of numbers, got {type(value).__name__}."
+            f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
         ) from error
+
+
+def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """A C-contiguous float64 array of the given shape (None matches any length)."""
+    array = as_float_array(name, value)
     expected = "(" + ", ".join("N" if d is None else str(d) for d in shape)
     expected += ",)" if len(shape) == 1 else ")"
     if array.ndim != len(shape) or any(
@@ -51,7 +63,7 @@ def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np
             f"Expected `{name}` to have shape {expected}, got {_shape_str(array.shape)}.",
             argument=name,
         )
-    return np.ascontiguousarray(array)
+    return array
 
 
 def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
@@ -70,11 +82,11 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
             f"quaternion, got {type(rotation).__name__}."
         )
     try:
-        array = np.asarray(rotation, dtype=np.float64)
-    except (TypeError, ValueError) as error:
+        array = as_float_array(name, rotation)
+    except TypeError as error:
         raise TypeError(
             f"Expected `{name}` to be a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) "
-            f"quaternion, got {type(rotation).__name__}."
+            f"quaternion, got {_kind(rotation)}."
         ) from error
     if not np.all(np.isfinite(array)):
         raise NonFiniteError(

@@ -9,10 +9,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
+from polhode._coerce import as_float_array as _as_float_array
 from polhode.bodies import Body
 from polhode.errors import ShapeError
 from polhode.principal_axes import principal
-from polhode.simulation import _as_float_array
 from polhode.simulation import _body as _simulation_body
 
 __all__ = ["Analysis", "analyze"]

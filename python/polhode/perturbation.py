@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode._coerce import as_float_array as _as_float_array
 from polhode.errors import ArgumentError, NonFiniteError, ShapeError
-from polhode.simulation import _as_float_array
 
 __all__ = ["perturbation"]
 

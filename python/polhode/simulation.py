@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
+from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
 from polhode.bodies import Body
 from polhode.torque import as_torque
@@ -75,24 +76,6 @@ class Trajectory:
 
 #: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
 OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
-
-
-def _as_float_array(name: str, value: Any) -> NDArray[np.float64]:
-    """A float64 array (any shape); TypeError naming ``name`` for anything else."""
-    if value is None or isinstance(value, str | bytes) or np.iscomplexobj(value):
-        raise TypeError(f"Expected `{name}` to be an array of real numbers, got {_kind(value)}.")
-    try:
-        return np.ascontiguousarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as error:
-        raise TypeError(
-            f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
-        ) from error
-
-
-def _kind(value: Any) -> str:
-    if isinstance(value, np.ndarray):
-        return f"an array of dtype {value.dtype}"
-    return type(value).__name__
 
 
 def _body(body: Any) -> Any:
