@@ -203,3 +203,93 @@ def test_argparse_errors_are_messages_not_tracebacks(argv):
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     assert "error" in result.stderr
+
+
+def test_version_prints_the_package_version(capsys):
+    import polhode
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out == f"polhode {polhode.__version__}\n"
+    result = subprocess.run(
+        [sys.executable, "-m", "polhode", "--version"], capture_output=True, text=True, timeout=60
+    )
+    assert result.returncode == 0 and result.stdout == f"polhode {polhode.__version__}\n"
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("method", ["auto", "splitting", "midpoint", "rk4", "dop853"])
+def test_spin_reports_rest_as_rest(method, capsys):
+    dt = ["--dt", "0.1"] if method in ("splitting", "midpoint", "rk4") else []
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", "0", "0", "0", "--t", "10"]
+    assert main([*argv, "--method", method, *dt]) == 0
+    captured = capsys.readouterr()
+    out = captured.out
+    assert "rest" in out and "nan" not in out.lower()
+    assert "absolute" in out  # against zero reference values the drift is absolute
+    for name in ("energy T", "|L|", "L in space"):
+        assert float(out.split(name)[1].split()[0]) == 0.0
+    assert captured.err == ""
+
+
+def test_spin_notes_moments_no_body_has(capsys):
+    omega = ["--omega", "0.01", "1", "0.01", "--t", "10"]
+    assert main(["spin", "--moments", "1", "1", "3", *omega]) == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "note" in err and "I1 + I2 >= I3" in err
+    assert main(["spin", "--moments", "3", "1", "1.0000001", *omega]) == 0  # any order
+    assert "I1 + I2 >= I3" in capsys.readouterr().err
+    # A flat lamina (I1 + I2 = I3) and every solid are bodies: no note.
+    for argv in (
+        ["spin", "--moments", "1", "2", "3", *omega],
+        ["spin", "--moments", "0.1", "0.2", "0.3", *omega],
+        ["spin", "--body", "cylinder", "mass=1", "radius=0.1", "length=0.5", *omega],
+    ):
+        assert main(argv) == 0
+        assert capsys.readouterr().err == ""
+
+
+def test_spin_passes_order_and_rtol_to_their_methods(capsys):
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", "0.01", "1", "0.01", "--t", "5"]
+    assert main([*argv, "--method", "splitting", "--dt", "0.01", "--order", "6"]) == 0
+    assert "method splitting" in capsys.readouterr().out
+    assert main([*argv, "--method", "dop853", "--rtol", "1e-6"]) == 0
+    assert "method dop853" in capsys.readouterr().out
+    assert main([*argv[:-1], "0"]) == 0  # an end time of 0 is a run of no length
+
+
+def test_spin_imports_neither_scipy_nor_matplotlib_and_times_only_the_run(tmp_path):
+    # What the run's reported time could include: nothing is left to import during it.
+    script = """
+import sys
+import polhode
+from polhode.cli import main
+
+seen = {}
+simulate = polhode.simulate
+
+def watched(*args, **kwargs):
+    seen["loaded"] = sorted(m for m in sys.modules if m.split(".")[0] in ("scipy", "matplotlib"))
+    return simulate(*args, **kwargs)
+
+polhode.simulate = watched
+argv = ["spin", "--moments", "1", "2", "3", "--omega", "0.01", "1", "0.01", "--t", "10"]
+assert main(argv + sys.argv[1:]) == 0
+after = sorted(m for m in sys.modules if m.split(".")[0] in ("scipy", "matplotlib"))
+print("RESULT", seen["loaded"] == after, bool(after), "matplotlib.figure" in seen["loaded"])
+"""
+    plain = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert plain.returncode == 0, plain.stderr
+    # Nothing of scipy or matplotlib, before the run or during it.
+    assert plain.stdout.split("RESULT")[1].split() == ["True", "False", "False"]
+    pytest.importorskip("matplotlib")
+    plotted = subprocess.run(
+        [sys.executable, "-c", script, "--plot", str(tmp_path / "run.png")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert plotted.returncode == 0, plotted.stderr
+    # With --plot, matplotlib is imported while the arguments are checked, before the run.
+    assert plotted.stdout.split("RESULT")[1].split()[2] == "True"
