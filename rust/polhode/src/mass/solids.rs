@@ -7,8 +7,8 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::factor::SecondMoment;
-use super::{number, MassProperties};
-use crate::eigen::{exponent, ldexp};
+use super::{number, out_of_range, MassProperties, OutOfRange};
+use crate::eigen::{exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
 
 /// A solid centred on the origin from its principal second moments `c(mass, lengths)`, which
@@ -27,8 +27,7 @@ fn solid<const N: usize>(
     let longest = lengths.iter().fold(0.0_f64, |m, x| m.max(*x));
     let (el, em) = (exponent(longest), exponent(mass));
     let scaled = c(ldexp(mass, -em), lengths.map(|x| ldexp(x, -el)));
-    let second_moment = SecondMoment::principal_form(scaled, em + 2 * el, &Matrix3::identity());
-    let body = MassProperties::new(mass, Vector3::zeros(), second_moment);
+    let k = em + 2 * el;
     // The length that sets the size: the longest (the first on a tie).
     let mut j = 0;
     for (i, &x) in lengths.iter().enumerate() {
@@ -40,7 +39,24 @@ fn solid<const N: usize>(
     if N > 0 {
         blame.push((names[j], 2.0 * lengths[j].log2()));
     }
-    body.in_range(&blame)
+    // The largest moment, I_k = c_i + c_j, still in units of 2^k: its size for the message.
+    let largest = (scaled[0] + scaled[1])
+        .max(scaled[0] + scaled[2])
+        .max(scaled[1] + scaled[2]);
+    if !ldexp(largest, k).is_finite() {
+        return Err(out_of_range(
+            OutOfRange::Overflow,
+            format!(
+                "the moments of inertia overflow double precision (the largest is about {}, \
+                 beyond the largest double, {:e}).",
+                scientific(largest, k),
+                f64::MAX
+            ),
+            &blame,
+        ));
+    }
+    let second_moment = SecondMoment::principal_form(scaled, k, &Matrix3::identity());
+    MassProperties::new(mass, Vector3::zeros(), second_moment).in_range(&blame)
 }
 
 fn non_negative(name: &str, value: f64) -> Result<f64> {
