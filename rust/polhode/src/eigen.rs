@@ -8,6 +8,8 @@
 //! ascending, axes a proper rotation with deterministic signs, and inside a degenerate subspace
 //! the frame closest to the body's own axes.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
@@ -519,6 +521,9 @@ pub fn principal_batch_monitored(
         });
     }
     const CHUNK: usize = BATCH_CHUNK;
+    // The first chunk known to have failed: later chunks are skipped (they cannot hold the
+    // first error), earlier ones never are, so the error reported does not depend on timing.
+    let first_failure = AtomicUsize::new(usize::MAX);
     let outcomes: Vec<Result<()>> = tensors
         .par_chunks(9 * CHUNK)
         .zip(moments.par_chunks_mut(3 * CHUNK))
@@ -526,10 +531,18 @@ pub fn principal_batch_monitored(
         .zip(multiplicity.par_chunks_mut(3 * CHUNK))
         .enumerate()
         .map(|(chunk, (((t, m), x), u))| {
-            if let Some(monitor) = monitor {
-                monitor.look()?;
+            if chunk > first_failure.load(Ordering::Relaxed) {
+                return Ok(());
             }
-            solve_chunk(t, m, x, u, rtol, chunk * CHUNK)
+            let outcome = match monitor {
+                Some(monitor) => monitor.look(),
+                None => Ok(()),
+            }
+            .and_then(|()| solve_chunk(t, m, x, u, rtol, chunk * CHUNK));
+            if outcome.is_err() {
+                first_failure.fetch_min(chunk, Ordering::Relaxed);
+            }
+            outcome
         })
         .collect();
     // The first error in the batch's order: an interruption only if no tensor before it was bad.
