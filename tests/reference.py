@@ -681,3 +681,22 @@ def rigid_body(inertia, omega0, quaternion0, times, torque, breaks=(), rtol=1e-1
         y = sol.y[:, -1]
     q = out[:, 3:] / np.linalg.norm(out[:, 3:], axis=1)[:, None]
     return out[:, :3], q
+
+
+def fixed_axis_rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """The rotation of URDF's ``rpy``: fixed axes x, y, z in that order, R = Rz(yaw) Ry(pitch)
+    Rx(roll), written out from the three elementary rotations."""
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    return rz @ ry @ rx
+
+
+def eigvalsh_mp(matrix, dps: int = 60) -> list:
+    """Eigenvalues (ascending, mpf) of a symmetric float matrix taken as exact, at ``dps``
+    digits: mpmath's exponents are unbounded, so tensors of 1e300 or 1e-310 are no harder than
+    tensors of 1."""
+    return eigh_mp(matrix, dps)[0]

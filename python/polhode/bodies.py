@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -21,6 +22,29 @@ _URDF_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 def _numbers(values: Any) -> str:
     """Space-separated shortest round-trip decimals."""
     return " ".join(repr(float(v)) for v in values)
+
+
+def _fixed_axis_rpy(matrix: NDArray[np.float64]) -> tuple[float, float, float]:
+    """Roll, pitch, yaw (fixed axes: R = Rz(yaw) Ry(pitch) Rx(roll)) of a rotation matrix,
+    with pitch in [-pi/2, pi/2].
+
+    The yaw comes from the first column (cos p (cos y, sin y, .)); the matrix is then turned
+    back by that yaw, Rz(-y) R = Ry(p) Rx(r), and pitch and roll read from that product. Near
+    gimbal lock (cos p -> 0) the yaw alone is ill-determined, but the roll is taken from the
+    matrix with that very yaw removed, so the three angles reproduce R to rounding; at gimbal
+    lock exactly the yaw is whatever atan2 gives for the round-off (0 for exact zeros) and the
+    roll carries the rest. No warning either way (scipy's as_euler warns there).
+    """
+    r = np.asarray(matrix, dtype=float)
+    yaw = math.atan2(r[1, 0], r[0, 0])
+    c, s = math.cos(yaw), math.sin(yaw)
+    # Rows of Rz(-yaw) R: [c s 0; -s c 0; 0 0 1] R.
+    m00 = c * r[0, 0] + s * r[1, 0]
+    m11 = -s * r[0, 1] + c * r[1, 1]
+    m12 = -s * r[0, 2] + c * r[1, 2]
+    pitch = math.atan2(-r[2, 0], m00)
+    roll = math.atan2(-m12, m11)
+    return roll, pitch, yaw
 
 
 def _as_faces(faces: Any) -> NDArray[np.int64]:
@@ -384,9 +408,12 @@ class Body:
     def to_urdf_inertial(self) -> str:
         """A URDF ``<inertial>`` element: the centre of mass and the principal frame as the
         ``<origin xyz rpy>`` (fixed-axis roll, pitch, yaw: R = Rz(y) Ry(p) Rx(r)), and the
-        principal moments as a diagonal ``<inertia>``."""
+        principal moments as a diagonal ``<inertia>``.
+
+        The angles reproduce the principal frame to rounding, gimbal lock (pitch = +-pi/2)
+        included, where the yaw is chosen from the round-off and the roll carries the rest."""
         p = self.principal()
-        rpy = p.rotation.as_euler("xyz")
+        rpy = _fixed_axis_rpy(p.axes)
         m = [repr(float(x)) for x in p.moments]
         return (
             "<inertial>\n"

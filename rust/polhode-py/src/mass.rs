@@ -5,11 +5,72 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2,
     PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
+use polhode::dynamics::Monitor;
 use polhode::MassProperties;
 use pyo3::prelude::*;
 
 use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py};
 use crate::errors::{CoreError, CoreResult};
+use crate::watch::{run_on_pool, Watch};
+
+/// Runs `work` (given a monitor to look at) with the GIL released. A long call (`long`) runs on
+/// the rayon pool while this thread polls for Ctrl-C every 50 ms (see [`run_on_pool`]): Ctrl-C
+/// cancels the monitor, the work stops at its next chunk and KeyboardInterrupt is raised. A
+/// short call, or one from a thread of the pool itself, runs here. The work's result does not
+/// depend on where it runs.
+fn watched<T: Send>(
+    py: Python<'_>,
+    long: bool,
+    work: impl FnOnce(Option<&Monitor>) -> polhode::Result<T> + Send,
+) -> PyResult<T> {
+    if !long || rayon::current_thread_index().is_some() {
+        return Ok(py.detach(|| work(None)).map_err(CoreError)?);
+    }
+    let monitor = Monitor::new();
+    let watch = Watch::new(None, 1, 0.0);
+    let result = py.detach(|| run_on_pool(&monitor, &watch, || work(Some(&monitor))));
+    if let Some(error) = watch.take_raised() {
+        return Err(error);
+    }
+    let result =
+        result.unwrap_or_else(|| unreachable!("a panic of the work is re-raised by its scope"));
+    Ok(result.map_err(CoreError)?)
+}
+
+/// A number as Python's `repr` would show it, roughly (never the hundreds of digits of `{}` for
+/// 1e300).
+fn number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e16).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The error for a result (of a query with argument `name`) beyond the range of double
+/// precision.
+fn overflow(name: &str, what: &str) -> PyErr {
+    CoreError(polhode::Error::InvalidArgument {
+        name: name.into(),
+        reason: format!(
+            "the {what} overflows double precision (beyond the largest double, {:e}).",
+            f64::MAX
+        ),
+    })
+    .into()
+}
+
+fn finite_matrix(
+    name: &str,
+    what: &str,
+    m: nalgebra::Matrix3<f64>,
+) -> PyResult<nalgebra::Matrix3<f64>> {
+    if m.iter().all(|x| x.is_finite()) {
+        Ok(m)
+    } else {
+        Err(overflow(name, what))
+    }
+}
 
 /// Principal moments (3,), axes (3, 3) and multiplicities (3,) as numpy arrays.
 type PrincipalArrays<'py> = (
@@ -48,7 +109,11 @@ impl PyMassProperties {
                 ))
             }
         };
-        Ok(py.detach(|| wrap(MassProperties::point_masses(masses, positions)))?)
+        let long = masses.len() > 2 * polhode::mass::POINT_CHUNK;
+        let body = watched(py, long, |monitor| {
+            MassProperties::point_masses_monitored(masses, positions, monitor)
+        })?;
+        Ok(Self(body))
     }
 
     /// A solid bounded by a closed triangle mesh (or, with `shell`, a thin surface shell).
@@ -218,6 +283,7 @@ impl PyMassProperties {
                 self.0.inertia_about_in(&point, &axes)
             }
         };
+        let tensor = finite_matrix("point", "inertia tensor about `point`", tensor)?;
         Ok(matrix_to_py(py, &tensor))
     }
 
@@ -246,8 +312,8 @@ impl PyMassProperties {
         wrap(self.0.scaled(mass_scale, length_scale))
     }
 
-    fn combined(&self, other: &Self) -> Self {
-        Self(self.0 + other.0)
+    fn combined(&self, other: &Self) -> CoreResult<Self> {
+        wrap(self.0.try_add(&other.0))
     }
 
     fn angular_momentum_body<'py>(
@@ -256,12 +322,20 @@ impl PyMassProperties {
         omega: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let omega = finite_vector("omega", &omega)?;
-        Ok(vector_to_py(py, &self.0.angular_momentum_body(&omega)))
+        let l = self.0.angular_momentum_body(&omega);
+        if !l.iter().all(|x| x.is_finite()) {
+            return Err(overflow("omega", "angular momentum"));
+        }
+        Ok(vector_to_py(py, &l))
     }
 
     fn kinetic_energy(&self, omega: PyReadonlyArray1<'_, f64>) -> PyResult<f64> {
         let omega = finite_vector("omega", &omega)?;
-        Ok(self.0.kinetic_energy(&omega))
+        let energy = self.0.kinetic_energy(&omega);
+        if !energy.is_finite() {
+            return Err(overflow("omega", "kinetic energy"));
+        }
+        Ok(energy)
     }
 }
 
@@ -288,7 +362,7 @@ fn checked_rtol(rtol: Option<f64>) -> PyResult<f64> {
     if !(rtol.is_finite() && rtol >= 0.0) {
         return Err(CoreError(polhode::Error::InvalidArgument {
             name: "rtol".into(),
-            reason: format!("expected a finite number >= 0, got {rtol}."),
+            reason: format!("expected a finite number >= 0, got {}.", number(rtol)),
         })
         .into());
     }
@@ -327,15 +401,23 @@ pub fn principal<'py>(
     let mut moments = vec![0.0; 3 * n];
     let mut axes = vec![0.0; 9 * n];
     let mut multiplicity = vec![0i64; 3 * n];
-    py.detach(|| {
-        polhode::eigen::principal_batch(slice, rtol, &mut moments, &mut axes, &mut multiplicity)
-    })
-    .map_err(|e| {
-        if single {
-            CoreError(e.map_name(|name| name.replacen("inertia[0]", "inertia", 1)))
-        } else {
-            CoreError(e)
-        }
+    let long = n > 2 * polhode::eigen::BATCH_CHUNK;
+    watched(py, long, |monitor| {
+        polhode::eigen::principal_batch_monitored(
+            slice,
+            rtol,
+            &mut moments,
+            &mut axes,
+            &mut multiplicity,
+            monitor,
+        )
+        .map_err(|e| {
+            if single {
+                e.map_name(|name| name.replacen("inertia[0]", "inertia", 1))
+            } else {
+                e
+            }
+        })
     })?;
     let (moments_shape, axes_shape) = if single {
         (vec![3], vec![3, 3])

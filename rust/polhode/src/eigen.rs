@@ -8,9 +8,12 @@
 //! ascending, axes a proper rotation with deterministic signs, and inside a degenerate subspace
 //! the frame closest to the body's own axes.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
+use crate::dynamics::Monitor;
 use crate::error::{Error, Result};
 
 /// Default relative tolerance under which two principal moments count as equal.
@@ -57,9 +60,79 @@ pub fn symmetric_eigen3(tensor: &Matrix3<f64>) -> Result<Principal> {
 
 /// [`symmetric_eigen3`] with an explicit relative tolerance for equal moments; `name` is the
 /// argument named in errors.
+///
+/// Any finite symmetric tensor is accepted, from subnormal to the largest doubles: the tensor is
+/// scaled by a power of two before the solve and the moments scaled back (exactly, unless they
+/// are subnormal). Moments beyond the range of double precision (a tensor near `f64::MAX` whose
+/// largest eigenvalue exceeds it) are an [`Error::InvalidArgument`] naming `name`.
 pub fn symmetric_eigen3_with(tensor: &Matrix3<f64>, rtol: f64, name: &str) -> Result<Principal> {
     let a = checked_symmetric(tensor, name)?;
-    Ok(eigen_symmetric_unchecked(&a, rtol))
+    eigen_symmetric_unchecked(&a, rtol, name)
+}
+
+/// `2^k` for `-1022 <= k <= 1023` (a normal number).
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// `x 2^k` with a single rounding whenever `x 2^(k/2)` is a normal number: exact unless the
+/// result is subnormal, 0 or infinite. `k` is clamped to `[-2044, 2046]`, beyond which every
+/// finite non-zero `x` over- or underflows anyway.
+pub(crate) fn ldexp(x: f64, k: i32) -> f64 {
+    let k = k.clamp(-2044, 2046);
+    let half = k / 2;
+    x * pow2(half) * pow2(k - half)
+}
+
+/// The binary exponent `e` of `x` with `|x| = f 2^e`, `0.5 <= f < 1` (C's `frexp`), subnormals
+/// included; 0 for 0 and for non-finite `x`.
+pub(crate) fn exponent(x: f64) -> i32 {
+    if x == 0.0 || !x.is_finite() {
+        return 0;
+    }
+    let biased = ((x.to_bits() >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        // Subnormal: scale into the normal range first (exactly).
+        exponent(x * pow2(64)) - 64
+    } else {
+        biased - 1022
+    }
+}
+
+/// A number in short scientific notation, for values known only as `x 2^k` (which may lie
+/// beyond the range of double precision): `3.1e+310`.
+pub(crate) fn scientific(x: f64, k: i32) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let log10 = x.abs().log10() + f64::from(k) * std::f64::consts::LOG10_2;
+    let mut power = log10.floor();
+    let mut mantissa = 10f64.powf(log10 - power);
+    if mantissa >= 9.95 {
+        mantissa /= 10.0;
+        power += 1.0;
+    }
+    let sign = if x < 0.0 { "-" } else { "" };
+    format!(
+        "{sign}{mantissa:.1}e{}{}",
+        if power < 0.0 { "-" } else { "+" },
+        power.abs()
+    )
+}
+
+/// The error for principal moments beyond the range of double precision; the largest moment is
+/// `largest 2^k`.
+fn moments_overflow(name: &str, largest: f64, k: i32) -> Error {
+    Error::InvalidArgument {
+        name: name.to_owned(),
+        reason: format!(
+            "its principal moments overflow double precision (the largest is about {}, beyond \
+             the largest double, {:e}).",
+            scientific(largest, k),
+            f64::MAX
+        ),
+    }
 }
 
 /// Checks finiteness and symmetry and returns the symmetrised tensor.
@@ -88,15 +161,44 @@ pub(crate) fn checked_symmetric(tensor: &Matrix3<f64>, name: &str) -> Result<Mat
             });
         }
     }
-    Ok((tensor + tensor.transpose()) * 0.5)
+    // The mean of the two mirrors, without overflow near f64::MAX (and exact for subnormals,
+    // where halving first would round): the same expression both ways, so exactly symmetric.
+    let mean = |x: f64, y: f64| {
+        let sum = x + y;
+        if sum.is_finite() {
+            sum * 0.5
+        } else {
+            x * 0.5 + y * 0.5
+        }
+    };
+    Ok(Matrix3::from_fn(|r, c| {
+        mean(tensor[(r, c)], tensor[(c, r)])
+    }))
 }
 
-/// Eigen-decomposition of a symmetric, finite tensor (not checked).
-pub(crate) fn eigen_symmetric_unchecked(a: &Matrix3<f64>, rtol: f64) -> Principal {
+/// Eigen-decomposition of a symmetric, finite tensor (not checked); an error naming `name` if
+/// its moments exceed the range of double precision.
+pub(crate) fn eigen_symmetric_unchecked(
+    a: &Matrix3<f64>,
+    rtol: f64,
+    name: &str,
+) -> Result<Principal> {
+    let (mut p, k) = eigen_symmetric_scaled(a, rtol);
+    let moments = p.moments.map(|x| ldexp(x, k));
+    if !moments.iter().all(|x| x.is_finite()) {
+        return Err(moments_overflow(name, p.moments.abs().max(), k));
+    }
+    p.moments = moments;
+    Ok(p)
+}
+
+/// The eigen-decomposition of `a 2^-k` (entries of size below 1) and `k`: the moments of `a` are
+/// those returned times `2^k`, which may lie beyond the range of double precision.
+pub(crate) fn eigen_symmetric_scaled(a: &Matrix3<f64>, rtol: f64) -> (Principal, i32) {
     let mut lanes = Lanes::<1>::default();
-    lanes.load(0, a);
+    let k = lanes.load(0, a);
     lanes.solve();
-    lanes.principal(0, rtol)
+    (lanes.principal(0, rtol), k)
 }
 
 /// `L` symmetric tensors solved side by side (`a[r][c][lane]`), so that the divisions and
@@ -108,6 +210,8 @@ struct Lanes<const L: usize> {
     shift: [f64; L],
     scale: [f64; L],
     norm: [f64; L],
+    /// The lane holds its tensor times `2^-exponent`.
+    exponent: [i32; L],
 }
 
 impl<const L: usize> Default for Lanes<L> {
@@ -118,13 +222,24 @@ impl<const L: usize> Default for Lanes<L> {
             shift: [0.0; L],
             scale: [1.0; L],
             norm: [0.0; L],
+            exponent: [0; L],
         }
     }
 }
 
 impl<const L: usize> Lanes<L> {
-    /// Loads tensor `m` into `lane`, shifted by trace/3 and scaled to entries of size <= 1.
-    fn load(&mut self, lane: usize, m: &Matrix3<f64>) {
+    /// Loads tensor `m` into `lane`, shifted by trace/3 and scaled to entries of size <= 1;
+    /// returns `k` with the lane holding `m 2^-k` (its moments come out in units of `2^k`).
+    ///
+    /// The power of two first brings the largest entry to [0.5, 1), exactly (but for
+    /// subnormal entries far below the largest, whose rounding is far below eps of it): the
+    /// trace, the norm and the squares of the Jacobi rotations then can neither overflow (a
+    /// tensor of 1e154) nor underflow (a subnormal one), and in the normal range the
+    /// arithmetic is that of the unscaled tensor times the same power of two.
+    fn load(&mut self, lane: usize, m: &Matrix3<f64>) -> i32 {
+        let largest = m.iter().fold(0.0_f64, |l, x| l.max(x.abs()));
+        let k = exponent(largest);
+        let m = &m.map(|x| ldexp(x, -k));
         let shift = (m[(0, 0)] + m[(1, 1)] + m[(2, 2)]) / 3.0;
         let mut largest = 0.0_f64;
         for r in 0..3 {
@@ -145,6 +260,8 @@ impl<const L: usize> Lanes<L> {
         self.shift[lane] = shift;
         self.scale[lane] = scale;
         self.norm[lane] = m.norm();
+        self.exponent[lane] = k;
+        k
     }
 
     /// Cyclic Jacobi (Golub & Van Loan 8.5.2, symmetric Schur rotations with the smaller root so
@@ -361,13 +478,35 @@ fn signed(v: Vector3<f64>) -> Vector3<f64> {
 /// `tensors` holds row-major 3x3 tensors (`tensors[9 i + 3 r + c]`, numpy's (N, 3, 3) layout);
 /// `moments` receives `3 N` values, `axes` `9 N` (row-major, columns are the axes) and
 /// `multiplicity` `3 N` (as `i64`, numpy's default integer, so that no conversion pass is
-/// needed). Errors name the first bad tensor as `inertia[i]`.
+/// needed). Errors name the first bad tensor as `inertia[i]`. Each tensor is solved on its own,
+/// so the results do not depend on the number of threads.
 pub fn principal_batch(
     tensors: &[f64],
     rtol: f64,
     moments: &mut [f64],
     axes: &mut [f64],
     multiplicity: &mut [i64],
+) -> Result<()> {
+    principal_batch_monitored(tensors, rtol, moments, axes, multiplicity, None)
+}
+
+/// Tensors per chunk of [`principal_batch_monitored`] (about a millisecond of work): the unit of
+/// parallel work and of the looks at the monitor.
+pub const BATCH_CHUNK: usize = 4096;
+
+/// [`principal_batch`] watched by `monitor`: a look ([`Monitor::look`]) before each chunk of
+/// [`BATCH_CHUNK`] tensors, so that a cancelled monitor stops the batch within a chunk, with
+/// [`Error::Interrupted`].
+///
+/// Of several bad tensors, the error names the first (in the batch's order), whatever the number
+/// of threads.
+pub fn principal_batch_monitored(
+    tensors: &[f64],
+    rtol: f64,
+    moments: &mut [f64],
+    axes: &mut [f64],
+    multiplicity: &mut [i64],
+    monitor: Option<&Monitor>,
 ) -> Result<()> {
     let n = tensors.len() / 9;
     if tensors.len() != 9 * n
@@ -381,14 +520,33 @@ pub fn principal_batch(
             got: format!("{} values", tensors.len()),
         });
     }
-    const CHUNK: usize = 4096;
-    tensors
+    const CHUNK: usize = BATCH_CHUNK;
+    // The first chunk known to have failed: later chunks are skipped (they cannot hold the
+    // first error), earlier ones never are, so the error reported does not depend on timing.
+    let first_failure = AtomicUsize::new(usize::MAX);
+    let outcomes: Vec<Result<()>> = tensors
         .par_chunks(9 * CHUNK)
         .zip(moments.par_chunks_mut(3 * CHUNK))
         .zip(axes.par_chunks_mut(9 * CHUNK))
         .zip(multiplicity.par_chunks_mut(3 * CHUNK))
         .enumerate()
-        .try_for_each(|(chunk, (((t, m), x), u))| solve_chunk(t, m, x, u, rtol, chunk * CHUNK))
+        .map(|(chunk, (((t, m), x), u))| {
+            if chunk > first_failure.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            let outcome = match monitor {
+                Some(monitor) => monitor.look(),
+                None => Ok(()),
+            }
+            .and_then(|()| solve_chunk(t, m, x, u, rtol, chunk * CHUNK));
+            if outcome.is_err() {
+                first_failure.fetch_min(chunk, Ordering::Relaxed);
+            }
+            outcome
+        })
+        .collect();
+    // The first error in the batch's order: an interruption only if no tensor before it was bad.
+    outcomes.into_iter().collect()
 }
 
 /// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes.
@@ -444,7 +602,9 @@ fn solve_chunk_generic(
             let i = first + l;
             let tensor = Matrix3::from_row_slice(&t[9 * i..9 * i + 9]);
             match checked_symmetric(&tensor, "inertia") {
-                Ok(a) => lanes.load(l, &a),
+                Ok(a) => {
+                    lanes.load(l, &a);
+                }
                 Err(e) => {
                     let indexed = format!("inertia[{}]", offset + i);
                     return Err(e.map_name(|name| name.replacen("inertia", &indexed, 1)));
@@ -455,7 +615,17 @@ fn solve_chunk_generic(
         for l in 0..used {
             let i = first + l;
             let p = lanes.principal(l, rtol);
-            m[3 * i..3 * i + 3].copy_from_slice(p.moments.as_slice());
+            let k = lanes.exponent[l];
+            for (out, &x) in m[3 * i..3 * i + 3].iter_mut().zip(p.moments.iter()) {
+                *out = ldexp(x, k);
+            }
+            if !m[3 * i..3 * i + 3].iter().all(|x| x.is_finite()) {
+                return Err(moments_overflow(
+                    &format!("inertia[{}]", offset + i),
+                    p.moments.abs().max(),
+                    k,
+                ));
+            }
             for (k, &count) in p.multiplicity.iter().enumerate() {
                 u[3 * i + k] = i64::from(count);
             }

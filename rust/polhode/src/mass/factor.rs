@@ -9,6 +9,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::eigen::{exponent, ldexp};
+
 /// `C = isotropic * 1 + factor^T factor`, with `isotropic >= 0`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct SecondMoment {
@@ -52,11 +54,65 @@ impl SecondMoment {
         }
     }
 
-    /// `C -> C * scale`.
-    pub fn scaled(&self, scale: f64) -> Self {
+    /// `C -> C m l^2` (masses times `m`, lengths times `l`, both positive), with the powers
+    /// of two apart so that no intermediate product over- or underflows where the result does
+    /// not.
+    pub fn scaled(&self, m: f64, l: f64) -> Self {
+        let (s, k) = self.normalised();
+        // m = fm 2^em with em even (fm in [0.5, 2)), l = fl 2^el.
+        let mut em = exponent(m);
+        if em % 2 != 0 {
+            em -= 1;
+        }
+        let fm = ldexp(m, -em);
+        let el = exponent(l);
+        let fl = ldexp(l, -el);
+        let root = fm.sqrt() * fl;
         Self {
-            isotropic: self.isotropic * scale,
-            factor: self.factor * scale.sqrt(),
+            isotropic: ldexp(s.isotropic * (fm * fl * fl), 2 * k + em + 2 * el),
+            factor: s.factor.map(|x| ldexp(x * root, k + em / 2 + el)),
+        }
+    }
+
+    /// The same second moment in units of `2^(2k)`, and `k`: the factor's entries below 1 and
+    /// the isotropic part below 1 (one of them at least 1/4), exactly unless entries are far
+    /// below the largest. Zero stays zero (`k = 0`).
+    pub fn normalised(&self) -> (Self, i32) {
+        let f = self.factor.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let mut k = None;
+        if f > 0.0 && f.is_finite() {
+            k = Some(exponent(f));
+        }
+        if self.isotropic > 0.0 && self.isotropic.is_finite() {
+            // iso 2^-2k < 1 needs 2k >= exponent(iso).
+            let ki = (exponent(self.isotropic) + 1).div_euclid(2);
+            k = Some(k.map_or(ki, |kf: i32| kf.max(ki)));
+        }
+        let k = k.unwrap_or(0);
+        if k == 0 {
+            return (*self, 0);
+        }
+        (
+            Self {
+                isotropic: ldexp(self.isotropic, -2 * k),
+                factor: self.factor.map(|x| ldexp(x, -k)),
+            },
+            k,
+        )
+    }
+
+    /// `C = V diag(c 2^k) V^T` (the columns of `axes` are `V`) in square-root form: the common
+    /// part of `c` to `isotropic`, the rest as the factor `diag(sqrt(c - min c)) V^T`. Negative
+    /// entries of `c` (rounding) count as 0. The square roots are taken before the powers of two
+    /// are applied, so subnormal moments keep their digits.
+    pub fn principal_form(c: Vector3<f64>, k: i32, axes: &Matrix3<f64>) -> Self {
+        // k = 2 h + r with r in {0, 1}: 2^r goes into c, 2^h out of the square roots.
+        let h = k.div_euclid(2);
+        let c = c.map(|x| ldexp(x, k - 2 * h));
+        let scaled = Self::diagonal(c);
+        Self {
+            isotropic: ldexp(scaled.isotropic, 2 * h),
+            factor: (scaled.factor * axes.transpose()).map(|x| ldexp(x, h)),
         }
     }
 }
@@ -140,6 +196,11 @@ fn householder_column(col: &mut [f64], rest: &mut [&mut [f64]], j: usize) {
     let x = &mut col[j..];
     let scale = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     if scale == 0.0 || x.len() < 2 {
+        // `max` skips NaN: a column of zeros and NaN must not lose its NaN below the diagonal
+        // (only the first three rows are kept).
+        if x.iter().any(|v| v.is_nan()) {
+            x[0] = f64::NAN;
+        }
         return;
     }
     let original_head = x[0];

@@ -16,8 +16,8 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::factor::SecondMoment;
-use super::{renormalised, two_sum, MassProperties};
-use crate::eigen;
+use super::{out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
+use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
 
 /// Triangles per parallel chunk.
@@ -285,22 +285,49 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
     Ok(())
 }
 
-/// The compensated sums over all triangles, about the vertex mean, and that reference point.
-fn integrate(vertices: &[[f64; 3]], faces: &[[i64; 3]], shell: bool) -> (Sums, Vector3<f64>) {
-    // The reference point: the vertex mean, summed relative to a vertex of the mesh.
+/// The compensated sums over all triangles, about the vertex mean, in units of `2^k`, with
+/// that reference point and `k` (vertices are taken as `(v - reference) 2^-k`, of size at most
+/// 1); `None` if the vertices span more than the range of double precision.
+///
+/// Every parallel sum is a fixed tree: per chunk of [`CHUNK`] items, the chunks' sums then added
+/// in order on one thread, so the result does not depend on the number of threads.
+fn integrate(
+    vertices: &[[f64; 3]],
+    faces: &[[i64; 3]],
+    shell: bool,
+) -> Option<(Sums, Vector3<f64>, i32)> {
+    // The reference point: the vertex mean, summed relative to a vertex of the mesh, in units of
+    // the mesh's extent (so that neither the differences nor their sum overflow).
     let anchor = Vector3::from(vertices[faces[0][0] as usize]);
-    let spread = vertices
+    let extent = vertices
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            chunk.iter().fold(0.0_f64, |m, v| {
+                (0..3).fold(m, |m, k| m.max((v[k] - anchor[k]).abs()))
+            })
+        })
+        .reduce(|| 0.0, f64::max);
+    if !extent.is_finite() {
+        return None;
+    }
+    let e = exponent(extent);
+    let spreads: Vec<Vector3<f64>> = vertices
         .par_chunks(CHUNK)
         .map(|chunk| {
             chunk.iter().fold(Vector3::zeros(), |acc, v| {
-                acc + (Vector3::from(*v) - anchor)
+                acc + (Vector3::from(*v) - anchor).map(|x| ldexp(x, -e))
             })
         })
-        .reduce(Vector3::zeros, |a, b| a + b);
-    let reference = anchor + spread / vertices.len() as f64;
+        .collect();
+    let spread = spreads.iter().fold(Vector3::zeros(), |acc, s| acc + s);
+    let reference = anchor + (spread / vertices.len() as f64).map(|x| ldexp(x, e));
+    // |v - reference| <= 2 extent: vertices in units of 2^k have entries of size <= 1.
+    let k = e + 1;
+    let reference_scaled = reference.map(|x| ldexp(x, -k));
 
-    let vertex = |i: i64| Vector3::from(vertices[i as usize]) - reference;
-    let sums = faces
+    let vertex =
+        |i: i64| Vector3::from(vertices[i as usize]).map(|x| ldexp(x, -k)) - reference_scaled;
+    let chunks: Vec<Sums> = faces
         .par_chunks(CHUNK)
         .map(|chunk| {
             let mut sums = Sums::ZERO;
@@ -325,8 +352,15 @@ fn integrate(vertices: &[[f64; 3]], faces: &[[i64; 3]], shell: bool) -> (Sums, V
             }
             sums
         })
-        .reduce(|| Sums::ZERO, Sums::merge);
-    (sums, reference)
+        .collect();
+    let sums = chunks.into_iter().fold(Sums::ZERO, Sums::merge);
+    Some((sums, reference, k))
+}
+
+/// `x` as `(f, e)` with `x = f 2^e` and `0.5 <= |f| < 1` (0 as `(0, 0)`).
+fn split(x: f64) -> (f64, i32) {
+    let e = exponent(x);
+    (ldexp(x, -e), e)
 }
 
 impl MassProperties {
@@ -387,7 +421,7 @@ impl MassProperties {
             }
         }
         check_input(vertices, faces, shell)?;
-        let (closed, (sums, reference)) = rayon::join(
+        let (closed, integrated) = rayon::join(
             || {
                 if shell {
                     Ok(())
@@ -398,7 +432,31 @@ impl MassProperties {
             || integrate(vertices, faces, shell),
         );
         closed?;
+        // Which argument drives the size of the result (log2 of its contribution), for an
+        // error: the mass or density, or the vertices' extent (to the fifth power with a
+        // density, the second with a mass).
+        let blame = |k: i32| -> [(&'static str, f64); 2] {
+            match (density, mass) {
+                (Some(d), _) => [("density", d.log2()), ("vertices", 5.0 * f64::from(k))],
+                (_, m) => [
+                    ("mass", m.unwrap_or(1.0).log2()),
+                    ("vertices", 2.0 * f64::from(k)),
+                ],
+            }
+        };
+        let Some((sums, reference, k)) = integrated else {
+            return Err(out_of_range(
+                OutOfRange::Overflow,
+                format!(
+                    "the mesh spans more than the range of double precision ({:e}).",
+                    f64::MAX
+                ),
+                &[("vertices", 0.0)],
+            ));
+        };
 
+        // In units of 2^k for lengths: volume 2^3k (area 2^2k), first moment one more k, second
+        // two more.
         let mut t = sums.value();
         if !t.iter().all(|x| x.is_finite()) {
             return Err(invalid(
@@ -412,13 +470,22 @@ impl MassProperties {
         } else {
             (6.0, 24.0, 120.0)
         };
+        let dimension = if shell { 2 } else { 3 };
         let what = if shell { "area" } else { "volume" };
+        let shown = |x: f64| {
+            let v = ldexp(x, dimension * k);
+            if v.is_finite() && v != 0.0 {
+                format!("{v:e}")
+            } else {
+                scientific(x, dimension * k)
+            }
+        };
         if t[0].abs() <= 64.0 * f64::EPSILON * sums.abs_weight || t[0] == 0.0 {
             return Err(invalid(
                 "vertices",
                 format!(
-                    "the mesh is degenerate: its total {what} {:e} is zero to rounding.",
-                    t[0] / d0
+                    "the mesh is degenerate: its total {what} {} is zero to rounding.",
+                    shown(t[0] / d0)
                 ),
             ));
         }
@@ -427,10 +494,10 @@ impl MassProperties {
                 return Err(invalid(
                     "faces",
                     format!(
-                        "the mesh is inside out (total volume {:e} < 0): its faces wind \
+                        "the mesh is inside out (total volume {} < 0): its faces wind \
                          clockwise seen from outside. Reverse every face (faces[:, ::-1]) or \
                          pass fix_winding=True.",
-                        t[0] / d0
+                        shown(t[0] / d0)
                     ),
                 ));
             }
@@ -442,36 +509,61 @@ impl MassProperties {
         let first = Vector3::new(t[1], t[2], t[3]) / d1;
         let q = |k: usize| t[k] / d2;
         let about_reference = Matrix3::new(q(4), q(7), q(8), q(7), q(5), q(9), q(8), q(9), q(6));
-        let (body_mass, rho) = match (density, mass) {
-            (Some(d), _) => (d * measure, d),
-            (_, Some(m)) => (m, m / measure),
+        // The density as rho_f 2^rho_e, kept apart so that neither the mass nor the moments
+        // overflow on the way where the result does not.
+        let (rho_f, rho_e) = match (density, mass) {
+            (Some(d), _) => split(d),
+            (_, Some(m)) => {
+                let (m_f, m_e) = split(m);
+                let (r_f, r_e) = split(m_f / measure);
+                (r_f, r_e + m_e - dimension * k)
+            }
             _ => unreachable!("checked above"),
         };
-        positive("mass", body_mass)?;
-        positive("density", rho)?;
+        let body_mass = match (density, mass) {
+            (_, Some(m)) => m,
+            _ => ldexp(rho_f * measure, rho_e + dimension * k),
+        };
+        if !body_mass.is_finite() || body_mass == 0.0 {
+            let kind = if body_mass == 0.0 {
+                OutOfRange::Underflow
+            } else {
+                OutOfRange::Overflow
+            };
+            let (f, e) = split(rho_f * measure);
+            let about = scientific(f, e + rho_e + dimension * k);
+            let reason = if kind == OutOfRange::Overflow {
+                format!(
+                    "the mass overflows double precision (it is about {about}, beyond the \
+                     largest double, {:e}).",
+                    f64::MAX
+                )
+            } else {
+                format!(
+                    "the mass underflows double precision (it is about {about}, below the \
+                     smallest double, {:e}).",
+                    f64::from_bits(1)
+                )
+            };
+            return Err(out_of_range(kind, reason, &blame(k)[..]));
+        }
         // About the centre of mass: P - V c c^T with c = S / V, a small shift.
         let shift = first / measure;
         let centred = about_reference - first * shift.transpose();
-        let centred = (centred + centred.transpose()) * (0.5 * rho);
-        if !centred.iter().all(|x| x.is_finite()) {
-            return Err(invalid(
-                "vertices",
-                "the second moments overflow double precision.".into(),
-            ));
-        }
-        // Into the square-root form as from_inertia does: C = V diag(c) V^T.
-        let p = eigen::eigen_symmetric_unchecked(&centred, 0.0);
-        let diagonal = SecondMoment::diagonal(p.moments);
-        let second_moment = SecondMoment {
-            isotropic: diagonal.isotropic,
-            factor: diagonal.factor * p.axes.transpose(),
-        };
+        let centred = (centred + centred.transpose()) * (0.5 * rho_f);
+        // Into the square-root form as from_inertia does: C = V diag(c) V^T, here in units of
+        // 2^(kk + (dimension + 2) k + rho_e).
+        let (p, kk) = eigen::eigen_symmetric_scaled(&centred, 0.0);
+        let second_moment =
+            SecondMoment::principal_form(p.moments, kk + (dimension + 2) * k + rho_e, &p.axes);
+        let shift = shift.map(|x| ldexp(x, k));
         let (center_of_mass, center_of_mass_low) = renormalised(reference, shift);
-        Ok(Self {
+        Self {
             mass: body_mass,
             center_of_mass,
             center_of_mass_low,
             second_moment,
-        })
+        }
+        .in_range(&blame(k)[..])
     }
 }

@@ -11,13 +11,67 @@ mod mesh;
 mod points;
 mod solids;
 
+pub use points::POINT_CHUNK;
+
 use std::ops::Add;
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::eigen::{self, Principal, DEFAULT_RTOL};
+use crate::eigen::{self, ldexp, scientific, Principal, DEFAULT_RTOL};
 use crate::error::{finite, positive, Error, Result};
 use factor::SecondMoment;
+
+/// A number as Python's `repr` would show it, roughly: positional between 1e-4 and 1e16,
+/// scientific outside (never the hundreds of digits of `{}` for 1e300 or 1e-300).
+pub(crate) fn number(x: f64) -> String {
+    let size = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-4..1e16).contains(&size) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// Which end of the range of double precision a body's quantities left.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum OutOfRange {
+    /// Something is beyond `f64::MAX`.
+    Overflow,
+    /// A positive quantity that must stay positive (a mesh's mass) rounds to zero.
+    Underflow,
+}
+
+/// The error for a result out of the range of double precision, naming the argument that
+/// contributes most to it: of `blame`'s `(name, log2 of its contribution)`, the largest for an
+/// overflow, the smallest for an underflow.
+pub(crate) fn out_of_range(kind: OutOfRange, reason: String, blame: &[(&str, f64)]) -> Error {
+    let pick = blame.iter().copied().reduce(|a, b| {
+        let b_wins = match kind {
+            OutOfRange::Overflow => b.1 > a.1,
+            OutOfRange::Underflow => b.1 < a.1,
+        };
+        if b_wins {
+            b
+        } else {
+            a
+        }
+    });
+    Error::InvalidArgument {
+        name: pick.map_or("mass", |p| p.0).to_owned(),
+        reason,
+    }
+}
+
+/// The largest magnitude of an iterator of numbers, NaN if any is NaN.
+fn largest(values: impl IntoIterator<Item = f64>) -> f64 {
+    values.into_iter().fold(0.0, |m: f64, x| {
+        if m.is_nan() || x.is_nan() {
+            f64::NAN
+        } else {
+            m.max(x.abs())
+        }
+    })
+}
 
 /// Mass, centre of mass and second moments of a rigid body, in the body's own axes.
 ///
@@ -93,7 +147,17 @@ impl MassProperties {
         positive("mass", mass)?;
         check_vector("center_of_mass", center_of_mass)?;
         let inertia = eigen::checked_symmetric(inertia, "inertia")?;
-        let p = eigen::eigen_symmetric_unchecked(&inertia, 0.0);
+        // In units of 2^k (entries below 1), so that neither the trace nor anything after it
+        // can overflow or underflow: a tensor of 8e307 or of 1e-310 is as good as one of 1.
+        let (p, k) = eigen::eigen_symmetric_scaled(&inertia, 0.0);
+        let shown = |x: f64| {
+            let v = ldexp(x, k);
+            if v.is_finite() && (v != 0.0 || x == 0.0) {
+                format!("{v:e}")
+            } else {
+                scientific(x, k)
+            }
+        };
         let half_trace = 0.5 * p.moments.sum();
         let tolerance = 16.0 * f64::EPSILON * half_trace.abs();
         // Principal second moments c_k = tr(I)/2 - I_k; all must be >= 0 (the triangle
@@ -103,8 +167,8 @@ impl MassProperties {
             return Err(Error::InvalidInertia {
                 name: "inertia".into(),
                 reason: format!(
-                    "it must be positive semidefinite, but its smallest principal moment is {:e}.",
-                    p.moments[0]
+                    "it must be positive semidefinite, but its smallest principal moment is {}.",
+                    shown(p.moments[0])
                 ),
             });
         }
@@ -112,19 +176,17 @@ impl MassProperties {
             return Err(Error::InvalidInertia {
                 name: "inertia".into(),
                 reason: format!(
-                    "its principal moments {:e}, {:e}, {:e} break the triangle inequality \
+                    "its principal moments {}, {}, {} break the triangle inequality \
                      I1 + I2 >= I3.",
-                    p.moments[0], p.moments[1], p.moments[2]
+                    shown(p.moments[0]),
+                    shown(p.moments[1]),
+                    shown(p.moments[2])
                 ),
             });
         }
         // C = V diag(c) V^T = iso 1 + (D V^T)^T (D V^T), D = sqrt(c - iso).
-        let diagonal = SecondMoment::diagonal(c);
-        let second_moment = SecondMoment {
-            isotropic: diagonal.isotropic,
-            factor: diagonal.factor * p.axes.transpose(),
-        };
-        Ok(Self::new(mass, *center_of_mass, second_moment))
+        let second_moment = SecondMoment::principal_form(c, k, &p.axes);
+        Self::new(mass, *center_of_mass, second_moment).in_range(&[("inertia", 0.0)])
     }
 
     /// The total mass.
@@ -139,14 +201,19 @@ impl MassProperties {
 
     /// The second-moment matrix `sum m r r^T` about the centre of mass.
     pub fn second_moment(&self) -> Matrix3<f64> {
-        self.second_moment.matrix()
+        let (s, k) = self.second_moment.normalised();
+        s.matrix().map(|x| ldexp(x, 2 * k))
     }
 
     /// The inertia tensor about the centre of mass, in body axes: `I = tr(C) 1 - C`.
+    ///
+    /// Formed in units of a power of two (exactly), so that no intermediate square or trace
+    /// overflows or underflows where the tensor itself does not.
     pub fn inertia(&self) -> Matrix3<f64> {
-        let s = &self.second_moment;
+        let (s, k) = self.second_moment.normalised();
         let f = &s.factor;
-        Matrix3::identity() * (2.0 * s.isotropic + s.anisotropic_trace()) - f.tr_mul(f)
+        let i = Matrix3::identity() * (2.0 * s.isotropic + s.anisotropic_trace()) - f.tr_mul(f);
+        i.map(|x| ldexp(x, 2 * k))
     }
 
     /// The inertia tensor about `point` (body coordinates), in body axes:
@@ -176,8 +243,19 @@ impl MassProperties {
     /// factor `F` (a one-sided Jacobi SVD): no cancellation, so a needle's near-zero moment keeps
     /// its relative accuracy, and the axes are those of `F` alone, so the anisotropy of a heavy
     /// sphere plus a speck keeps its direction to round-off.
+    ///
+    /// Computed in units of a power of two (exactly), so that bodies from 1e-300 to 1e300 keep
+    /// every digit; a body built by this crate has moments within the range of double precision
+    /// (its constructors check).
     pub fn principal_with(&self, rtol: f64) -> Principal {
-        let s = &self.second_moment;
+        let (mut p, k) = self.principal_scaled(rtol);
+        p.moments = p.moments.map(|x| ldexp(x, k));
+        p
+    }
+
+    /// The principal frame with the moments in units of `2^k`, and `k`.
+    fn principal_scaled(&self, rtol: f64) -> (Principal, i32) {
+        let (s, k) = self.second_moment.normalised();
         let (sv, axes) = eigen::right_singular(&s.factor);
         let sq = sv.map(|x| x * x);
         let iso2 = 2.0 * s.isotropic;
@@ -186,7 +264,76 @@ impl MassProperties {
             iso2 + (sq[0] + sq[2]),
             iso2 + (sq[0] + sq[1]),
         ];
-        eigen::canonical(moments, axes, rtol * (sq[0] + sq[1] + sq[2]))
+        let p = eigen::canonical(moments, axes, rtol * (sq[0] + sq[1] + sq[2]));
+        (p, 2 * k)
+    }
+
+    /// The body if every quantity it reports (mass, centre of mass, second moments, inertia
+    /// tensor, principal moments) is within the range of double precision (moments below the
+    /// smallest double round to 0, correctly); else an [`Error::InvalidArgument`] naming the argument of `blame`
+    /// (`(name, log2 of its contribution)`) that contributes most.
+    pub(crate) fn in_range(self, blame: &[(&str, f64)]) -> Result<Self> {
+        match self.range_check() {
+            Ok(()) => Ok(self),
+            Err((kind, reason)) => Err(out_of_range(kind, reason, blame)),
+        }
+    }
+
+    /// What is out of range, if anything (see [`Self::in_range`]).
+    pub(crate) fn range_check(&self) -> std::result::Result<(), (OutOfRange, String)> {
+        let overflow = |what: &str| {
+            (
+                OutOfRange::Overflow,
+                format!(
+                    "the {what} overflows double precision (beyond the largest double, {:e}).",
+                    f64::MAX
+                ),
+            )
+        };
+        if !self.mass.is_finite() {
+            return Err(overflow("mass"));
+        }
+        let com = self.center_of_mass + self.center_of_mass_low;
+        if !com.iter().all(|x| x.is_finite()) {
+            return Err(overflow("centre of mass"));
+        }
+        let s = &self.second_moment;
+        let f = largest(s.factor.iter().copied());
+        if !(f.is_finite() && s.isotropic.is_finite()) {
+            return Err((
+                OutOfRange::Overflow,
+                format!(
+                    "the moments of inertia overflow double precision (beyond the largest \
+                     double, {:e}).",
+                    f64::MAX
+                ),
+            ));
+        }
+        // Every reported number is at most 2 iso + ||F||^2 <= 2 iso + 9 max|F|^2: nothing to
+        // compute below that.
+        if s.isotropic <= 2f64.powi(1019) && f <= 2f64.powi(507) {
+            return Ok(());
+        }
+        let (p, k) = self.principal_scaled(0.0);
+        let top = p.moments.max();
+        let reported = ldexp(top, k);
+        let inertia = self.inertia();
+        let second = self.second_moment();
+        if !(reported.is_finite()
+            && inertia.iter().all(|x| x.is_finite())
+            && second.iter().all(|x| x.is_finite()))
+        {
+            return Err((
+                OutOfRange::Overflow,
+                format!(
+                    "the moments of inertia overflow double precision (the largest is about \
+                     {}, beyond the largest double, {:e}).",
+                    scientific(top, k),
+                    f64::MAX
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The same body moved by `offset` (body coordinates).
@@ -198,11 +345,12 @@ impl MassProperties {
             (sum[k], error[k]) = two_sum(self.center_of_mass[k], offset[k]);
         }
         let (high, low) = renormalised(sum, self.center_of_mass_low + error);
-        Ok(Self {
+        Self {
             center_of_mass: high,
             center_of_mass_low: low,
             ..*self
-        })
+        }
+        .in_range(&[("offset", 0.0)])
     }
 
     /// The same body rotated by the proper rotation `rotation` (`x_new = R x`) about the origin
@@ -213,12 +361,13 @@ impl MassProperties {
             rotation * self.center_of_mass,
             rotation * self.center_of_mass_low,
         );
-        Ok(Self {
+        Self {
             mass: self.mass,
             center_of_mass: high,
             center_of_mass_low: low,
             second_moment: self.second_moment.rotated(rotation),
-        })
+        }
+        .in_range(&[("rotation", 0.0)])
     }
 
     /// Angular momentum `L = I w` about the centre of mass, `omega` in body axes.
@@ -236,14 +385,23 @@ impl MassProperties {
     pub fn scaled(&self, mass_scale: f64, length_scale: f64) -> Result<Self> {
         positive("mass_scale", mass_scale)?;
         positive("length_scale", length_scale)?;
-        Ok(Self {
+        Self {
             mass: self.mass * mass_scale,
             center_of_mass: self.center_of_mass * length_scale,
             center_of_mass_low: self.center_of_mass_low * length_scale,
-            second_moment: self
-                .second_moment
-                .scaled(mass_scale * length_scale * length_scale),
-        })
+            second_moment: self.second_moment.scaled(mass_scale, length_scale),
+        }
+        .in_range(&[
+            ("mass_scale", mass_scale.log2()),
+            ("length_scale", 2.0 * length_scale.log2()),
+        ])
+    }
+
+    /// `self + other` (see the `Add` impl), or an [`Error::InvalidArgument`] naming `other`
+    /// if the composite's mass, centre or moments leave the range of double precision (`+`
+    /// itself does not check).
+    pub fn try_add(&self, other: &Self) -> Result<Self> {
+        (self + other).in_range(&[("other", 0.0)])
     }
 }
 
@@ -252,6 +410,9 @@ impl MassProperties {
 /// The shift terms of the two parts add up to one rank-one term `mu D D^T` with the reduced mass
 /// `mu = m_a m_b / (m_a + m_b)` and `D` the vector between the two centres, so nothing is summed
 /// about a far origin.
+///
+/// `+` does not check the range of double precision: a composite whose mass or moments overflow
+/// comes out with infinities or NaN in them. [`MassProperties::try_add`] checks.
 impl Add for MassProperties {
     type Output = MassProperties;
 

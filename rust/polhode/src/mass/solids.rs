@@ -4,14 +4,59 @@
 //! from which `I = tr(C) 1 - C`; the sources are the standard tables (e.g. Fetter & Walecka
 //! ch. 5), each checked against a quadrature in the tests.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::factor::SecondMoment;
-use super::MassProperties;
+use super::{number, out_of_range, MassProperties, OutOfRange};
+use crate::eigen::{exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
 
-fn diagonal(mass: f64, c: Vector3<f64>) -> MassProperties {
-    MassProperties::new(mass, Vector3::zeros(), SecondMoment::diagonal(c))
+/// A solid centred on the origin from its principal second moments `c(mass, lengths)`, which
+/// must be homogeneous of degree 1 in the mass and 2 in the lengths.
+///
+/// `c` is evaluated on the mass and the lengths brought near 1 by powers of two and the result
+/// scaled back (exactly, in the normal range), so that `m r^2` neither overflows nor underflows
+/// on the way where the moments do not; moments beyond the range of double precision are an
+/// error naming the argument that contributes most (`names` name the lengths).
+fn solid<const N: usize>(
+    mass: f64,
+    names: [&str; N],
+    lengths: [f64; N],
+    c: impl Fn(f64, [f64; N]) -> Vector3<f64>,
+) -> Result<MassProperties> {
+    let longest = lengths.iter().fold(0.0_f64, |m, x| m.max(*x));
+    let (el, em) = (exponent(longest), exponent(mass));
+    let scaled = c(ldexp(mass, -em), lengths.map(|x| ldexp(x, -el)));
+    let k = em + 2 * el;
+    // The length that sets the size: the longest (the first on a tie).
+    let mut j = 0;
+    for (i, &x) in lengths.iter().enumerate() {
+        if x > lengths[j] {
+            j = i;
+        }
+    }
+    let mut blame = vec![("mass", mass.log2())];
+    if N > 0 {
+        blame.push((names[j], 2.0 * lengths[j].log2()));
+    }
+    // The largest moment, I_k = c_i + c_j, still in units of 2^k: its size for the message.
+    let largest = (scaled[0] + scaled[1])
+        .max(scaled[0] + scaled[2])
+        .max(scaled[1] + scaled[2]);
+    if !ldexp(largest, k).is_finite() {
+        return Err(out_of_range(
+            OutOfRange::Overflow,
+            format!(
+                "the moments of inertia overflow double precision (the largest is about {}, \
+                 beyond the largest double, {:e}).",
+                scientific(largest, k),
+                f64::MAX
+            ),
+            &blame,
+        ));
+    }
+    let second_moment = SecondMoment::principal_form(scaled, k, &Matrix3::identity());
+    MassProperties::new(mass, Vector3::zeros(), second_moment).in_range(&blame)
 }
 
 fn non_negative(name: &str, value: f64) -> Result<f64> {
@@ -21,7 +66,7 @@ fn non_negative(name: &str, value: f64) -> Result<f64> {
     } else {
         Err(Error::InvalidArgument {
             name: name.into(),
-            reason: format!("expected a non-negative number, got {value}."),
+            reason: format!("expected a non-negative number, got {}.", number(value)),
         })
     }
 }
@@ -37,20 +82,18 @@ impl MassProperties {
     pub fn sphere(mass: f64, radius: f64) -> Result<Self> {
         positive("mass", mass)?;
         positive("radius", radius)?;
-        Ok(diagonal(
-            mass,
-            Vector3::repeat(mass * radius * radius / 5.0),
-        ))
+        solid(mass, ["radius"], [radius], |m, [r]| {
+            Vector3::repeat(m * r * r / 5.0)
+        })
     }
 
     /// A thin spherical shell: `I = 2/3 m r^2`.
     pub fn spherical_shell(mass: f64, radius: f64) -> Result<Self> {
         positive("mass", mass)?;
         positive("radius", radius)?;
-        Ok(diagonal(
-            mass,
-            Vector3::repeat(mass * radius * radius / 3.0),
-        ))
+        solid(mass, ["radius"], [radius], |m, [r]| {
+            Vector3::repeat(m * r * r / 3.0)
+        })
     }
 
     /// A solid box (cuboid) with full edge lengths `size` along x, y, z:
@@ -60,7 +103,12 @@ impl MassProperties {
         for k in 0..3 {
             positive(&format!("size[{k}]"), size[k])?;
         }
-        Ok(diagonal(mass, size.map(|a| mass * a * a / 12.0)))
+        solid(
+            mass,
+            ["size[0]", "size[1]", "size[2]"],
+            [size[0], size[1], size[2]],
+            |m, s| Vector3::from(s.map(|a| m * a * a / 12.0)),
+        )
     }
 
     /// A solid cylinder, symmetry axis z: `I_z = m r^2 / 2`, `I_x = m (3 r^2 + L^2) / 12`.
@@ -68,11 +116,10 @@ impl MassProperties {
         positive("mass", mass)?;
         positive("radius", radius)?;
         positive("length", length)?;
-        let radial = mass * radius * radius / 4.0;
-        Ok(diagonal(
-            mass,
-            Vector3::new(radial, radial, mass * length * length / 12.0),
-        ))
+        solid(mass, ["radius", "length"], [radius, length], |m, [r, l]| {
+            let radial = m * r * r / 4.0;
+            Vector3::new(radial, radial, m * l * l / 12.0)
+        })
     }
 
     /// A thick-walled tube, axis z: `I_z = m (r1^2 + r2^2) / 2`,
@@ -86,15 +133,21 @@ impl MassProperties {
             return Err(Error::InvalidArgument {
                 name: "inner_radius".into(),
                 reason: format!(
-                    "expected inner_radius < outer_radius, got {inner_radius} >= {outer_radius}."
+                    "expected inner_radius < outer_radius, got {} >= {}.",
+                    number(inner_radius),
+                    number(outer_radius)
                 ),
             });
         }
-        let radial = mass * (inner_radius * inner_radius + outer_radius * outer_radius) / 4.0;
-        Ok(diagonal(
+        solid(
             mass,
-            Vector3::new(radial, radial, mass * length * length / 12.0),
-        ))
+            ["inner_radius", "outer_radius", "length"],
+            [inner_radius, outer_radius, length],
+            |m, [r1, r2, l]| {
+                let radial = m * (r1 * r1 + r2 * r2) / 4.0;
+                Vector3::new(radial, radial, m * l * l / 12.0)
+            },
+        )
     }
 
     /// A solid right circular cone of base `radius` and `length` along the axis, with its base
@@ -104,9 +157,10 @@ impl MassProperties {
         positive("mass", mass)?;
         positive("radius", radius)?;
         positive("length", length)?;
-        let radial = 3.0 * mass * radius * radius / 20.0;
-        let axial = 3.0 * mass * length * length / 80.0;
-        let mut body = diagonal(mass, Vector3::new(radial, radial, axial));
+        let mut body = solid(mass, ["radius", "length"], [radius, length], |m, [r, l]| {
+            let radial = 3.0 * m * r * r / 20.0;
+            Vector3::new(radial, radial, 3.0 * m * l * l / 80.0)
+        })?;
         body.center_of_mass = Vector3::new(0.0, 0.0, length / 4.0);
         Ok(body)
     }
@@ -117,25 +171,31 @@ impl MassProperties {
         for k in 0..3 {
             positive(&format!("semi_axes[{k}]"), semi_axes[k])?;
         }
-        Ok(diagonal(mass, semi_axes.map(|a| mass * a * a / 5.0)))
+        solid(
+            mass,
+            ["semi_axes[0]", "semi_axes[1]", "semi_axes[2]"],
+            [semi_axes[0], semi_axes[1], semi_axes[2]],
+            |m, s| Vector3::from(s.map(|a| m * a * a / 5.0)),
+        )
     }
 
     /// A thin rod along z: `I_x = I_y = m L^2 / 12`, `I_z = 0`.
     pub fn rod(mass: f64, length: f64) -> Result<Self> {
         positive("mass", mass)?;
         positive("length", length)?;
-        Ok(diagonal(
-            mass,
-            Vector3::new(0.0, 0.0, mass * length * length / 12.0),
-        ))
+        solid(mass, ["length"], [length], |m, [l]| {
+            Vector3::new(0.0, 0.0, m * l * l / 12.0)
+        })
     }
 
     /// A thin disc in the xy plane: `I_z = m r^2 / 2`, `I_x = I_y = m r^2 / 4`.
     pub fn disk(mass: f64, radius: f64) -> Result<Self> {
         positive("mass", mass)?;
         positive("radius", radius)?;
-        let radial = mass * radius * radius / 4.0;
-        Ok(diagonal(mass, Vector3::new(radial, radial, 0.0)))
+        solid(mass, ["radius"], [radius], |m, [r]| {
+            let radial = m * r * r / 4.0;
+            Vector3::new(radial, radial, 0.0)
+        })
     }
 
     /// A solid torus, symmetry axis z, tube radius `minor_radius` <= `major_radius`:
@@ -148,17 +208,22 @@ impl MassProperties {
             return Err(Error::InvalidArgument {
                 name: "minor_radius".into(),
                 reason: format!(
-                    "expected minor_radius <= major_radius (a ring or horn torus), got \
-                     {minor_radius} > {major_radius}."
+                    "expected minor_radius <= major_radius (a ring or horn torus), got {} > {}.",
+                    number(minor_radius),
+                    number(major_radius)
                 ),
             });
         }
-        let (r2, a2) = (major_radius * major_radius, minor_radius * minor_radius);
-        let radial = mass * (r2 / 2.0 + 3.0 * a2 / 8.0);
-        Ok(diagonal(
+        solid(
             mass,
-            Vector3::new(radial, radial, mass * a2 / 4.0),
-        ))
+            ["major_radius", "minor_radius"],
+            [major_radius, minor_radius],
+            |m, [major, minor]| {
+                let (r2, a2) = (major * major, minor * minor);
+                let radial = m * (r2 / 2.0 + 3.0 * a2 / 8.0);
+                Vector3::new(radial, radial, m * a2 / 4.0)
+            },
+        )
     }
 
     /// A capsule: a cylinder of `length` (>= 0) and `radius` along z capped by two hemispheres,
@@ -169,15 +234,16 @@ impl MassProperties {
         positive("mass", mass)?;
         positive("radius", radius)?;
         non_negative("length", length)?;
-        let (r, h) = (radius, length);
-        // Volumes pi r^2 h and 4/3 pi r^3; the common pi r^2 cancels.
-        let cylinder_share = h / (h + 4.0 * r / 3.0);
-        let m_c = mass * cylinder_share;
-        let m_s = mass - m_c;
-        let radial = m_c * r * r / 4.0 + m_s * r * r / 5.0;
-        // A hemisphere of radius r has its flat face at z = h/2: z^2 averages
-        // h^2/4 + h (3 r / 8) + r^2 / 5 over it.
-        let axial = m_c * h * h / 12.0 + m_s * (h * h / 4.0 + 3.0 * h * r / 8.0 + r * r / 5.0);
-        Ok(diagonal(mass, Vector3::new(radial, radial, axial)))
+        solid(mass, ["radius", "length"], [radius, length], |m, [r, h]| {
+            // Volumes pi r^2 h and 4/3 pi r^3; the common pi r^2 cancels.
+            let cylinder_share = h / (h + 4.0 * r / 3.0);
+            let m_c = m * cylinder_share;
+            let m_s = m - m_c;
+            let radial = m_c * r * r / 4.0 + m_s * r * r / 5.0;
+            // A hemisphere of radius r has its flat face at z = h/2: z^2 averages
+            // h^2/4 + h (3 r / 8) + r^2 / 5 over it.
+            let axial = m_c * h * h / 12.0 + m_s * (h * h / 4.0 + 3.0 * h * r / 8.0 + r * r / 5.0);
+            Vector3::new(radial, radial, axial)
+        })
     }
 }
