@@ -93,12 +93,13 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
             f"Expected `{name}` to be finite, got {array.tolist()}.", argument=name
         )
     if array.shape == (4,):
-        norm = float(np.linalg.norm(array))
-        if norm == 0.0:
+        largest = float(np.max(np.abs(array)))
+        if largest == 0.0:
             raise ArgumentError(
                 f"Expected `{name}` to be a non-zero quaternion, got {array}.", argument=name
             )
-        return np.ascontiguousarray(Rotation.from_quat(array / norm).as_matrix())
+        unit = array / largest  # scaled first: the norm of 1e154-sized entries would overflow
+        return np.ascontiguousarray(Rotation.from_quat(unit / np.linalg.norm(unit)).as_matrix())
     if array.shape == (3, 3):
         return np.ascontiguousarray(array)
     raise ShapeError(

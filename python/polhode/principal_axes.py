@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode._coerce import as_scalar
+from polhode._coerce import as_float_array, as_scalar
 
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
@@ -87,16 +87,7 @@ def principal(inertia: Any, rtol: float | None = None) -> Principal:
     Principal
         ``moments`` (3,) or (N, 3), ``axes`` (3, 3) or (N, 3, 3), ``multiplicity``.
     """
-    if isinstance(inertia, str | bytes):
-        raise TypeError(
-            f"Expected `inertia` to be an array of numbers, got {type(inertia).__name__}."
-        )
-    try:
-        array = np.ascontiguousarray(inertia, dtype=np.float64)
-    except (TypeError, ValueError) as error:
-        raise TypeError(
-            f"Expected `inertia` to be an array of numbers, got {type(inertia).__name__}."
-        ) from error
+    array = as_float_array("inertia", inertia)
     tolerance = None if rtol is None else as_scalar("rtol", rtol)
     moments, axes, multiplicity = _core.principal(array, tolerance)
     return Principal(moments, axes, multiplicity)

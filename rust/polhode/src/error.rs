@@ -8,7 +8,7 @@
 #[non_exhaustive]
 pub enum Error {
     /// A number that must be finite is NaN or infinite.
-    #[error("Expected `{name}` to be finite, got {value}.")]
+    #[error("Expected `{name}` to be finite, got {}.", Short(*value))]
     NonFinite {
         /// The argument (or element, e.g. `positions[3]`) at fault.
         name: String,
@@ -16,7 +16,7 @@ pub enum Error {
         value: f64,
     },
     /// A number that must be strictly positive is zero or negative.
-    #[error("Expected `{name}` to be positive, got {value}.")]
+    #[error("Expected `{name}` to be positive, got {}.", Short(*value))]
     NonPositive {
         /// The argument at fault.
         name: String,
@@ -155,6 +155,22 @@ impl Error {
         };
         let end = name.find(['[', ' ', '.', '(']).unwrap_or(name.len());
         Some(&name[..end])
+    }
+}
+
+/// A number in a message: the shortest decimal that reads back as it, in scientific notation
+/// when it is very large or very small (`1e300`, not 301 digits).
+#[derive(Clone, Copy, Debug)]
+pub struct Short(pub f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0;
+        if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
     }
 }
 

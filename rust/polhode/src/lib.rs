@@ -34,7 +34,7 @@ pub mod mass;
 pub mod simulation;
 
 pub use eigen::{symmetric_eigen3, Principal};
-pub use error::{Error, Result};
+pub use error::{Error, Result, Short};
 pub use mass::MassProperties;
 
 /// The README's Rust example, run as a doctest so that it stays true.

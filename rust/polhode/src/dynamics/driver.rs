@@ -13,7 +13,7 @@ use super::splitting::{free_flow, torqued_step, SplittingOrder};
 use super::state::{Moments, State};
 use super::system::{Free, System, Torqued};
 use super::torque::{Segment, Torque};
-use crate::error::{finite, positive};
+use crate::error::{finite, positive, Short};
 use crate::{Error, Result};
 
 /// An integration method and its parameters.
@@ -371,11 +371,13 @@ pub(crate) fn check_times(times: &[f64], t0: f64) -> Result<()> {
             return Err(Error::InvalidArgument {
                 name: "t".into(),
                 reason: if k == 0 {
-                    format!("expected t[0] >= t0 = {t0}, got {t}.")
+                    format!("expected t[0] >= t0 = {}, got {}.", Short(t0), Short(t))
                 } else {
                     format!(
-                        "expected non-decreasing t, got t[{}] = {prev} > t[{k}] = {t}.",
-                        k - 1
+                        "expected non-decreasing t, got t[{}] = {} > t[{k}] = {}.",
+                        k - 1,
+                        Short(prev),
+                        Short(t)
                     )
                 },
             });
@@ -500,7 +502,9 @@ fn fixed_loop<Y>(
         return Err(Error::InvalidArgument {
             name: "dt".into(),
             reason: format!(
-                "dt = {dt} needs {total} steps, more than max_steps = {}.",
+                "dt = {} needs {} steps, more than max_steps = {}.",
+                Short(dt),
+                Short(total),
                 options.max_steps
             ),
         });
