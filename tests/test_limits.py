@@ -24,3 +24,15 @@ def test_the_core_refuses_an_allocation_it_cannot_make():
     t = np.linspace(0.0, 1.0, 1_000_000)
     with pytest.raises(MemoryError, match="bytes"):
         _core.simulate(np.array([1.0, 2.0, 3.0]), omega0, t, method="exact")
+
+
+def test_an_orientation_that_blows_up_is_an_error_not_nan_beside_finite_omega():
+    # A sphere keeps omega constant (finite), while rk4 with steps 17000 times too long for
+    # |omega| = 1732 rad/s makes the quaternion's norm grow like (|omega| dt)^4 per step.
+    with pytest.raises(ph.NonFiniteError, match="orientation.*reduce dt"):
+        ph.simulate([1.0, 1.0, 1.0], [1e3, 1e3, 1e3], [0.0, 1e4], method="rk4", dt=10.0)
+    # Without the orientation, omega alone is fine: the sphere's omega is exact.
+    sol = ph.simulate(
+        [1.0, 1.0, 1.0], [1e3, 1e3, 1e3], [0.0, 1e4], method="rk4", dt=10.0, orientation=False
+    )
+    np.testing.assert_array_equal(sol.omega[-1], [1e3, 1e3, 1e3])

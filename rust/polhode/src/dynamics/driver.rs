@@ -434,17 +434,31 @@ impl Collector {
         for i in 0..3 {
             if !w[i].is_finite() {
                 return Err(Error::NonFinite {
-                    name: format!("omega[{i}] at t = {t} (the solution blew up)"),
+                    name: format!("omega[{i}] at t = {} (the solution blew up)", Short(t)),
                     value: w[i],
                 });
             }
         }
-        self.omega.push(*w);
         if let (Some(att), Some(q)) = (self.orientation.as_mut(), q) {
-            att.push(UnitQuaternion::new_unchecked(Quaternion::from(
-                q / q.norm(),
-            )));
+            let unit = q / q.norm();
+            if !unit.iter().all(|c| c.is_finite()) {
+                // The orientation can blow up while omega stays finite (a step far too large
+                // for the rotation rate): an error, not NaN quaternions beside finite omega.
+                return Err(Error::NonFinite {
+                    name: format!(
+                        "orientation at t = {} (the solution blew up: reduce dt)",
+                        Short(t)
+                    ),
+                    value: unit
+                        .iter()
+                        .copied()
+                        .find(|c| !c.is_finite())
+                        .unwrap_or(f64::NAN),
+                });
+            }
+            att.push(UnitQuaternion::new_unchecked(Quaternion::from(unit)));
         }
+        self.omega.push(*w);
         Ok(())
     }
 }
