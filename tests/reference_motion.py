@@ -759,3 +759,211 @@ if __name__ == "__main__":
         rust_elliptic_tables()
     else:
         print("worst", self_check())
+
+
+# ---------------------------------------------------------------------------------------------
+# Closed forms at any scale
+#
+# For inputs the fixed-point integration cannot hold (a component 1e-170 or subnormal next to
+# one of 1, moments spanning 1e300, the exact separatrix far out in t): the invariants are exact
+# rationals and the working precision grows with every cancellation the motion implies (the
+# distance to the separatrix, the smallest component, the moment ratio, the phase at the
+# largest time), so nothing is converted to a float before the end.
+# ---------------------------------------------------------------------------------------------
+
+
+def _mlog10(x) -> float:
+    """log10 |x| of a non-zero rational or mpf (mpf exponents are unbounded; no float overflow)."""
+    if isinstance(x, Fraction):
+        with mp.workdps(20):
+            x = mp.mpf(x.numerator) / x.denominator
+    with mp.workdps(15):
+        return float(mp.log10(abs(x)))
+
+
+def _sign(x) -> int:
+    return -1 if x < 0 else 1
+
+
+def _qz(a):
+    return [mp.mpf(0), mp.mpf(0), mp.sin(a / 2), mp.cos(a / 2)]
+
+
+def _qx(a):
+    return [mp.sin(a / 2), mp.mpf(0), mp.mpf(0), mp.cos(a / 2)]
+
+
+def _q_axis(axis, angle):
+    """exp(angle axis / 2) for a unit axis (scalar last)."""
+    s = mp.sin(angle / 2)
+    return [axis[0] * s, axis[1] * s, axis[2] * s, mp.cos(angle / 2)]
+
+
+def _pi_at_m1(u, n, tail):
+    """Pi(gd u; n | 1) = int_0^u dx / (1 - n tanh^2 x), by quadrature (the integrand is
+    1 / (1 - n) beyond ``tail`` to the working precision)."""
+    a = abs(u)
+
+    def f(x):
+        return 1 / (1 - n * mp.tanh(x) ** 2)
+
+    def quad(b):
+        return mp.quad(f, mp.linspace(0, b, max(2, int(b) + 2)))
+
+    val = quad(a) if a <= tail else quad(tail) + (a - tail) / (1 - n)
+    return val if u >= 0 else -val
+
+
+def exact_closed_form(moments, omega0, quat0_xyzw, times, dps=30, want_mp=False):
+    """The torque-free motion in closed form, for any positive moments and finite ``omega0``, to
+    ``dps`` digits (relative, componentwise for omega at t = 0 and normwise elsewhere).
+
+    - rest, three equal moments, or omega0 along a principal axis of three distinct moments:
+      ``q(t) = q0 (x) exp(omega0 t / 2)``;
+    - two equal moments: regular precession, ``R(t) = Rot(L, G t / I_t) R0 Rot(e_s, -Omega t)``,
+      ``omega(t) = Rot(e_s, Omega t) omega0``, ``Omega = w_s (I_s - I_t) / I_t``;
+    - three distinct moments off the separatrix: Jacobi's functions and the precession
+      ``phi = G t / I3 + c (Pi(am u; n | m) - Pi(am u0; n | m))`` in the frame of
+      :func:`closed_form_motion`, from exact invariants;
+    - on the separatrix (``G^2 = 2 T I_mid`` exactly): ``m = (s1 B1 sech u, s2 G tanh u,
+      s3 B3 sech u)`` in the frame (smallest, intermediate, largest), ``s2`` fixed by Euler's
+      equation ``m1' = (1/I3 - 1/I2) m2 m3``, ``sinh u0 = s2 m2 / hypot(m1, m3)``, and the same
+      precession with ``Pi(gd u; n | 1) = int_0^u dx / (1 - n tanh^2 x)`` by quadrature.
+
+    Inputs are the exact binary values of the doubles; ``times`` may be negative. Returns
+    ``(omega (M, 3), quat_xyzw (M, 4))`` floats (subnormal or zero where the value is), and the
+    mpmath values too with ``want_mp``. Checked against :func:`reference_motion` in
+    ``tests/test_exact_extremes.py``.
+    """
+    mom = [_exact(v) for v in moments]
+    w = [_exact(v) for v in omega0]
+    q0f = [_exact(v) for v in quat0_xyzw]
+    ts = [Fraction(float(t)) for t in np.atleast_1d(np.asarray(times, dtype=float))]
+    m = [a * b for a, b in zip(mom, w, strict=True)]
+    G2 = sum(x * x for x in m)
+    T2 = sum(a * b for a, b in zip(m, w, strict=True))
+    distinct = len(set(mom)) == 3
+    extra = 12 + _mlog10(max(mom) / min(mom))
+    if G2 > 0:
+        # Every rate is below G / I_min; the smallest non-zero component sets the digits a
+        # component keeps.
+        tmax = max(abs(t) for t in ts)
+        if tmax > 0:
+            extra += max(0.0, 0.5 * _mlog10(G2) - _mlog10(min(mom)) + _mlog10(tmax))
+        extra += max(0.5 * _mlog10(G2) - _mlog10(x) for x in m if x != 0)
+    order = sorted(range(3), key=lambda i: mom[i])
+    lo, mid, hi = order
+    d2 = G2 - T2 * mom[mid] if distinct else None
+    if d2:
+        extra += max(0.0, _mlog10(G2 / abs(d2)))
+    wdps = int(dps + extra)
+    with mp.workdps(wdps):
+        f = _mpf
+        q0 = [f(x) for x in q0f]
+        wm = [f(x) for x in w]
+        ws, qs = [], []
+        steady = G2 == 0 or len(set(mom)) == 1 or (distinct and sum(x == 0 for x in w) == 2)
+        if steady:
+            norm = mp.sqrt(sum(x * x for x in wm))
+            axis = [x / norm for x in wm] if norm > 0 else [mp.mpf(0)] * 3
+            for t in ts:
+                ws.append(list(wm))
+                qs.append(_qmul(q0, _q_axis(axis, norm * f(t))))
+        elif not distinct:
+            s = [i for i in range(3) if mom.count(mom[i]) == 1][0]
+            a, b = (s + 1) % 3, (s + 2) % 3
+            it, i_s = mom[a], mom[s]
+            om = f(w[s] * (i_s - it) / it)
+            G = mp.sqrt(f(G2))
+            mm = [f(x) for x in m]
+            conj = [-q0[0], -q0[1], -q0[2], q0[3]]
+            ls = _qmul(_qmul(q0, [mm[0], mm[1], mm[2], mp.mpf(0)]), conj)[:3]
+            axis = [x / G for x in ls]
+            es = [mp.mpf(0)] * 3
+            es[s] = mp.mpf(1)
+            for t in ts:
+                tt = f(t)
+                q = _qmul(_qmul(_q_axis(axis, G * tt / f(it)), q0), _q_axis(es, -om * tt))
+                c, sn = mp.cos(om * tt), mp.sin(om * tt)
+                wt = list(wm)
+                wt[a] = c * wm[a] - sn * wm[b]
+                wt[b] = sn * wm[a] + c * wm[b]
+                ws.append(wt)
+                qs.append(q)
+        else:
+            sep = d2 == 0
+            idx = [lo, mid, hi] if d2 >= 0 else [hi, mid, lo]
+            even = idx in ([0, 1, 2], [1, 2, 0], [2, 0, 1])
+            sg = [1, 1, 1 if even else -1]
+            I1, I2, I3 = (mom[i] for i in idx)
+            m1, m2, m3 = (sg[k] * m[idx[k]] for k in range(3))
+            D1 = G2 - T2 * I1
+            D3 = G2 - T2 * I3
+            G = mp.sqrt(f(G2))
+            B1 = mp.sqrt(f(I1 * (-D3) / (I3 - I1)))
+            B2 = G if sep else mp.sqrt(f(I2 * (-D3) / (I3 - I2)))
+            B3 = mp.sqrt(f(I3 * D1 / (I3 - I1)))
+            lam = mp.sqrt(f(D1 * (I3 - I2) / (I1 * I2 * I3)))
+            n = f(-I3 * (I2 - I1) / (I1 * (I3 - I2)))
+            cc = G * f((I3 - I1) / (I1 * I3)) / lam
+            if sep:
+                s1, s3 = _sign(m1), _sign(m3)
+                # m1' = -s1 B1 lam sech tanh = (1/I3 - 1/I2) (s2 G tanh)(s3 B3 sech)
+                s2 = -s1 * s3 * _sign(Fraction(1) / I3 - Fraction(1) / I2)
+                u0 = mp.asinh(s2 * f(m2) / mp.sqrt(f(m1 * m1 + m3 * m3)))
+                tail = (wdps * mp.log(10) + mp.log(abs(n) + 2)) / 2 + 3
+
+                def comps(u):
+                    return [s1 * B1 * mp.sech(u), s2 * G * mp.tanh(u), s3 * B3 * mp.sech(u)]
+
+                def pi_(u):
+                    return _pi_at_m1(u, n, tail)
+
+            else:
+                k2 = f((I2 - I1) * (-D3) / ((I3 - I2) * D1))
+                s3 = _sign(m3)
+                s2 = s3 * _sign(I3 - I2)
+                K = mp.ellipk(k2)
+                u0 = mp.ellipf(mp.atan2(s2 * f(m2) / B2, f(m1) / B1), k2)
+
+                def comps(u):
+                    sn, cn, dn = (mp.ellipfun(x, u, m=k2) for x in ("sn", "cn", "dn"))
+                    return [B1 * cn, s2 * B2 * sn, s3 * B3 * dn]
+
+                def pi_(u):
+                    j = mp.nint(u / (2 * K))
+                    r = u - 2 * j * K
+                    am = j * mp.pi + mp.atan2(
+                        mp.ellipfun("sn", r, m=k2), mp.ellipfun("cn", r, m=k2)
+                    )
+                    return mp.ellippi(n, am, k2)
+
+            P = mp.matrix(3, 3)
+            for k in range(3):
+                P[idx[k], k] = sg[k]
+            qE = _quat_from_matrix(P)
+            qEinv = [-qE[0], -qE[1], -qE[2], qE[3]]
+            c0 = [f(m1), f(m2), f(m3)]
+            theta0 = mp.atan2(mp.sqrt(c0[0] ** 2 + c0[1] ** 2), c0[2])
+            psi0 = mp.atan2(c0[0], c0[1])
+            qL = _qmul(_qmul(_qmul(q0, qE), _qz(-psi0)), _qx(-theta0))
+            pi0 = pi_(u0)
+            inertia = [f(I1), f(I2), f(I3)]
+            for t in ts:
+                tt = f(t)
+                u = lam * tt + u0
+                mc = comps(u) if tt != 0 else c0
+                wb = [mp.mpf(0)] * 3
+                for k in range(3):
+                    wb[idx[k]] = sg[k] * mc[k] / inertia[k]
+                theta = mp.atan2(mp.sqrt(mc[0] ** 2 + mc[1] ** 2), mc[2])
+                psi = mp.atan2(mc[0], mc[1])
+                phi = G * tt / inertia[2] + cc * (pi_(u) - pi0)
+                q = _qmul(_qmul(_qmul(_qmul(qL, _qz(phi)), _qx(theta)), _qz(psi)), qEinv)
+                ws.append(wb)
+                qs.append(q)
+        out_w = np.array([[float(x) for x in v] for v in ws])
+        out_q = np.array([[float(x) for x in v] for v in qs])
+        if want_mp:
+            return out_w, out_q, ws, qs
+        return out_w, out_q

@@ -2761,12 +2761,24 @@ fn bad_inputs_are_errors() {
 fn huge_times_cost_nothing_and_stay_finite() {
     let fr = motion(&LONG_359);
     let p = fr.period().unwrap();
-    for n in [1e9, 1e12, 1e15] {
-        let (w, q) = fr.state(n * p);
+    // Up to the largest time at which a double keeps digits of the phase (3.3e14 periods for
+    // this body, whose precession turns about 2 to 5 times per period): finite, T conserved.
+    assert!(fr.max_time() > 3e14 * p && fr.max_time() < 1e15 * p);
+    for n in [1e9, 1e12, 3e14] {
+        let (w, q) = fr.try_state(n * p).unwrap();
         assert!(w.iter().all(|x| x.is_finite()) && q.coords.iter().all(|x| x.is_finite()));
         assert!(
             (fr.energy() - 0.5 * w.dot(&fr.moments().component_mul(&w))).abs()
                 <= 1e-14 * fr.energy()
         );
+    }
+    // Beyond it (1e15 periods: one ulp of t is 8 time units, 3 rad of precession) the phase
+    // has no digit left: an error that names t, not a number.
+    match fr.try_state(1e15 * p) {
+        Err(polhode::Error::InvalidArgument { name, reason }) => {
+            assert_eq!(name, "t");
+            assert!(reason.contains("largest time"), "{reason}");
+        }
+        other => panic!("expected an error for t, got {other:?}"),
     }
 }

@@ -101,9 +101,15 @@ pub(crate) fn sncndn_quarter(q: i64, v: f64, mc: f64, kp: f64) -> (f64, f64, f64
 /// Splits `u = q K + v` with `|v| <= K/2` (up to rounding), the reduction done in
 /// double-double so that it is exact for `|u|` up to about `2^50 K`.
 pub(crate) fn reduce_quarter(u: Dd, k: Dd) -> (i64, f64) {
+    let (q, v) = reduce_quarter_dd(u, k);
+    (q, v.to_f64())
+}
+
+/// [`reduce_quarter`] with the remainder `v` kept in double-double.
+pub(crate) fn reduce_quarter_dd(u: Dd, k: Dd) -> (i64, Dd) {
     let q = (u / k).round();
     let v = u - k * q.hi - k * q.lo;
-    (q.to_f64() as i64, v.to_f64())
+    (q.to_f64() as i64, v)
 }
 
 /// The Jacobi elliptic functions `(sn, cn, dn)(u | m)` as functions of the complementary

@@ -36,12 +36,40 @@
 //!
 //! The phase `lambda t + u0`, the quarter period `K` and the per-period gains are carried in
 //! double-double, so the only error that grows with `t` is the rounding of `t` itself.
+//!
+//! **Range.** The invariants are formed from the exact products `I_i w_i` in double-double with
+//! an exponent of its own ([`Xd`]), so no square underflows or overflows: a component of 1e-170
+//! (or a subnormal one) next to one of 1, or moments from 1e-150 to 1e150, keep their digits.
+//! The evaluation works in units that are powers of two (momenta in units of about `max |I w|`,
+//! moments of `max I`, time of their ratio: exact scalings), and each amplitude and moment that
+//! would leave the range of doubles in those units carries its own exponent ([`Sd`]), applied
+//! once to each output. When `|Delta_2|` is so small that `k' = sqrt(mc)` is below `2^-100`
+//! (`mc` itself may underflow), `K = pi / (2 AGM(1, k'))` is formed from `sqrt(k')`, the
+//! functions on `|v| <= K/2` are the hyperbolic ones (their corrections are `O(k')`, DLMF 22.10.2)
+//! and near `u = K` the shifted forms `cn(K + v) = -k' sinh v`, `dn(K + v) = k' cosh v` carry `k'`
+//! as a factor with its exponent.
+//!
+//! **The separatrix.** `sech u = 2 e / (1 + e^2)` and `tanh u = (1 - e^2)/(1 + e^2)` with
+//! `e = exp(-|u|)` in double-double (mantissa and exponent), `u = lambda t + u0` in double-double
+//! and `u0 = ln((G + s2 m2) / hypot(m1, m3))` (or `ln(hypot(m1, m3) / (G - s2 m2))` when
+//! `s2 m2 < 0`, which does not cancel): the decaying components keep their relative accuracy
+//! until they underflow.
+//!
+//! **The time bound.** A double `t` carries its phase only while one ulp of `t` (at most
+//! `2^-52 |t|`) turns the fastest angle of the motion by less than a quarter turn: `|t| <=
+//! 2^50 2 pi / R`, where `R` is the largest angular rate (the rotation rate `|w|` of a steady
+//! rotation; `G / I_t` and `|Omega|` of a symmetric top; `2 pi / T` and the largest precession
+//! rate `|phi'| <= |G / I_x| + |C| lambda / (1 + nu)` otherwise). Beyond it
+//! [`FreeRotation::try_state`] returns [`Error::InvalidArgument`] for `t`; below it the phase
+//! (carried in double-double) keeps its error to a few ulp and the reductions modulo the
+//! period are exact.
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::carlson::{carlson_rf, carlson_rj};
-use super::dd::{cel, Dd};
-use super::elliptic::{ellipk_dd, reduce_quarter, sncndn_quarter};
+use super::dd::{agm1, cel, Dd};
+use super::elliptic::{ellipk_dd, reduce_quarter_dd, sncndn_quarter};
+use super::xd::{asinh_xd, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
 
@@ -69,6 +97,10 @@ pub enum Regime {
     SteadyIntermediate,
 }
 
+/// Where double precision ends for the time: one ulp of `t` turns the fastest angle of the
+/// motion by a quarter turn at `|t| = 2^50 2 pi / R`.
+const PHASE_TURNS: f64 = 1_125_899_906_842_624.0; // 2^50
+
 /// The torque-free motion of a rigid body, evaluated in closed form at any time: O(1) per
 /// evaluation, no stepping.
 #[derive(Debug, Clone)]
@@ -80,15 +112,20 @@ pub struct FreeRotation {
     momentum: f64,
     regime: Regime,
     motion: Motion,
+    /// The largest time (in magnitude) at which the phase keeps digits.
+    t_max: f64,
+    /// The fastest angular rate of the motion (rad per unit time).
+    max_rate: f64,
 }
 
 #[derive(Debug, Clone)]
 enum Motion {
     /// Constant `omega` (rest, sphere, steady rotation about a principal axis):
-    /// `q(t) = q0 (x) exp(omega t / 2)`.
+    /// `q(t) = q0 (x) exp(omega t / 2)`; `rate = |omega|` per unit of `tau = t 2^rho`.
     Steady {
         axis: Vector3<f64>,
         rate: Dd,
+        rho: i32,
     },
     Symmetric(Symmetric),
     Elliptic(Box<Elliptic>),
@@ -96,10 +133,11 @@ enum Motion {
 }
 
 /// `q(t) = q0 (x) exp(m0 t / (2 I_t)) (x) exp(-Omega t e_s / 2)`, `omega` turning about `e_s`
-/// at `Omega`.
+/// at `Omega`. Rates per unit of `tau = t 2^rho`.
 #[derive(Debug, Clone)]
 struct Symmetric {
     axis: usize,
+    rho: i32,
     /// `G / I_t`.
     nutation_rate: Dd,
     /// `m0 / G`.
@@ -126,8 +164,14 @@ impl Frame {
         }
     }
 
-    fn to_canonical(self, v: &Vector3<f64>) -> [f64; 3] {
-        [0, 1, 2].map(|i| self.sign[i] * v[self.index[i]])
+    fn to_canonical_sd(self, v: &[Sd; 3]) -> [Sd; 3] {
+        [0, 1, 2].map(|i| {
+            let s = v[self.index[i]];
+            Sd {
+                x: self.sign[i] * s.x,
+                e: s.e,
+            }
+        })
     }
 
     fn to_body(self, c: [f64; 3]) -> Vector3<f64> {
@@ -149,23 +193,28 @@ impl Frame {
 }
 
 /// Shared by the elliptic and separatrix motions: the frames, scales and the orientation at 0.
+///
+/// Units: momenta `2^mu`, moments `2^iota`, time `2^-rho` with `rho = mu - iota` (so that
+/// `tau = t 2^rho` and rates are per unit of `tau`).
 #[derive(Debug, Clone)]
 struct Common {
     frame: Frame,
-    /// Canonical moments, scaled by `moment_scale`.
-    moments: [f64; 3],
-    /// Amplitudes `B1, B2, B3`, scaled by `momentum_scale`.
-    b: [f64; 3],
+    /// Canonical moments, in units of `2^iota`.
+    moments: [Sd; 3],
+    /// Amplitudes `B1, B2, B3`, in units of `2^mu`.
+    b: [Sd; 3],
     /// `s1` (separatrix only), `s2`, `s3`.
     s: [f64; 3],
-    /// Body angular velocity = scaled momentum / scaled moment * `rate_scale`.
-    rate_scale: f64,
-    /// `lambda` (unscaled, per unit time).
+    rho: i32,
+    /// `lambda`, per unit of `tau`.
     lambda: Dd,
+    /// The phase at `t = 0` is `u0 + u0_q K` (elliptic): a `u0` near a quarter period keeps
+    /// the digits of its distance to it.
     u0: Dd,
+    u0_q: i64,
     /// Euler frame: `true` if it is `(2, 3, 1)` of the canonical frame, else `(1, 2, 3)`.
     euler_cyclic: bool,
-    /// `G / I_hi` (unscaled).
+    /// `G / I_x`, per unit of `tau`.
     base_rate: Dd,
     /// `C` of the module doc.
     coef: Dd,
@@ -184,7 +233,11 @@ struct Common {
 struct Elliptic {
     c: Common,
     mc: f64,
+    /// `k'`, or its mantissa (with exponent `kp_exp`) when `k' < 2^-100`.
     kp: f64,
+    kp_exp: i32,
+    /// `k' < 2^-100`: the hyperbolic forms (module doc).
+    tiny: bool,
     k: Dd,
     /// `J` over a half period `2K` of `u`: `2 cel(k', 1 + nu, 0, 1)`.
     j_half: Dd,
@@ -195,16 +248,6 @@ struct Elliptic {
 #[derive(Debug, Clone)]
 struct Separatrix {
     c: Common,
-}
-
-/// An even power of two near `v > 0` (1 for 0 or non-finite).
-fn pow2_near(v: f64) -> f64 {
-    if v.is_finite() && v > 0.0 {
-        let e = v.log2().floor().clamp(-1000.0, 1000.0) as i32;
-        2f64.powi(e - e.rem_euclid(2))
-    } else {
-        1.0
-    }
 }
 
 /// `x` reduced into `[-pi, pi]`, from a double-double angle.
@@ -236,13 +279,92 @@ fn q_axis(axis: &Vector3<f64>, half_angle: f64) -> UnitQuaternion<f64> {
 
 /// Euler angles `(theta, psi)` of `m` in the Euler frame (z-x-z, `m = G (sin theta sin psi,
 /// sin theta cos psi, cos theta)`).
-fn theta_psi(e: [f64; 3]) -> (f64, f64) {
-    (e[0].hypot(e[1]).atan2(e[2]), e[0].atan2(e[1]))
+fn theta_psi(e: [Sd; 3]) -> (f64, f64) {
+    (
+        Sd::atan2(Sd::hypot(e[0], e[1]), e[2]),
+        Sd::atan2(e[0], e[1]),
+    )
 }
 
-/// `|v|` of a vector of doubles, in double-double.
-fn norm_dd(v: &Vector3<f64>) -> Dd {
-    (Dd::prod(v.x, v.x) + Dd::prod(v.y, v.y) + Dd::prod(v.z, v.z)).sqrt()
+/// `(tanh u, sech u)` without overflow (double precision; for the small-`u` branch of `J`).
+fn tanh_sech(u: f64) -> (f64, f64) {
+    let a = u.abs();
+    let sech = if a > 700.0 {
+        0.0
+    } else {
+        let e = (-a).exp();
+        2.0 * e / (1.0 + e * e)
+    };
+    (u.tanh(), sech)
+}
+
+/// The hyperbolic functions of a double-double `v`, from `e = exp(-|v|) = m 2^k`:
+/// `(tanh v, sech v / 2^k, sinh v 2^k, cosh v 2^k, k)`, each rounded once.
+fn hyperbolic(v: Dd) -> (f64, f64, f64, f64, i32) {
+    let a = v.abs();
+    let sg = if v.hi < 0.0 { -1.0 } else { 1.0 };
+    if a.hi < 1e-9 {
+        // Series (the next terms are below 1e-36 relative).
+        let a2 = a * a;
+        let th = a * (Dd::ONE - a2 / 3.0);
+        let sh = a * (Dd::ONE + a2 / 6.0);
+        let ch = Dd::ONE + a2 * 0.5;
+        let sech = Dd::ONE - a2 * 0.5;
+        return (
+            sg * th.to_f64(),
+            sech.to_f64(),
+            sg * sh.to_f64(),
+            ch.to_f64(),
+            0,
+        );
+    }
+    let (m, k) = exp_dd(-a);
+    if m.hi == 0.0 {
+        return (sg, 0.0, sg * f64::INFINITY, f64::INFINITY, 0);
+    }
+    // e^2 = m^2 2^(2k): below 2^-110 it does not change 1 +- e^2 in double-double.
+    let (one_p, one_m) = if k < -56 {
+        (Dd::ONE, Dd::ONE)
+    } else {
+        let e2 = (m * m).ldexp(2 * k);
+        (Dd::ONE + e2, Dd::ONE - e2)
+    };
+    let th = one_m / one_p;
+    let sech = m * 2.0 / one_p;
+    let sh = one_m / (m * 2.0);
+    let ch = one_p / (m * 2.0);
+    (
+        sg * th.to_f64(),
+        sech.to_f64(),
+        sg * sh.to_f64(),
+        ch.to_f64(),
+        k,
+    )
+}
+
+/// An even exponent near `log2 |x|` (scaling by its power of two, and by the square root of
+/// that, is exact).
+fn even_exponent(x: Xd) -> i32 {
+    x.e - x.e.rem_euclid(2)
+}
+
+fn too_wide(what: &str) -> Error {
+    Error::InvalidArgument {
+        name: "omega0".into(),
+        reason: format!(
+            "the {what} of this motion span more than the range of doubles (with these moments)."
+        ),
+    }
+}
+
+/// `x` as a double-double, or an error if it is not a normal double-double.
+fn checked_dd(x: Xd, what: &str) -> Result<Dd> {
+    let d = x.to_dd();
+    if x.is_zero() || (d.hi.is_finite() && d.hi.abs() >= f64::MIN_POSITIVE) {
+        Ok(d)
+    } else {
+        Err(too_wide(what))
+    }
 }
 
 impl FreeRotation {
@@ -252,7 +374,8 @@ impl FreeRotation {
     /// # Errors
     /// [`Error::NonFinite`] or [`Error::NonPositive`] for a bad moment, [`Error::NonFinite`]
     /// for a non-finite `omega0` component, [`Error::InvalidArgument`] for a non-finite
-    /// orientation or momenta/rates outside the range of doubles.
+    /// orientation, an angular momentum or kinetic energy outside the range of doubles, or rates
+    /// of the motion that span more than it.
     pub fn new(
         moments: Vector3<f64>,
         omega0: Vector3<f64>,
@@ -283,9 +406,29 @@ impl FreeRotation {
                 reason: format!("the angular momentum I * omega0 = {m:?} overflows"),
             });
         }
-        let energy = 0.5 * m.dot(&omega0);
-        let momentum = m.norm();
-        let (regime, motion) = Self::classify(&moments, &omega0, &m, &orientation0);
+        // T = sum I w^2 / 2 and |L|, from the exact products (no square underflows).
+        let mx = [0, 1, 2].map(|i| Xd::prod(moments[i], omega0[i]));
+        let energy = [0, 1, 2]
+            .map(|i| mx[i].mul_f64(omega0[i]))
+            .iter()
+            .fold(Xd::ZERO, |a, x| a + *x)
+            .mul_f64(0.5)
+            .to_f64();
+        if !energy.is_finite() {
+            return Err(Error::InvalidArgument {
+                name: "omega0".into(),
+                reason: "the kinetic energy of `omega0` with these moments overflows double \
+                         precision."
+                    .into(),
+            });
+        }
+        let momentum = mx.iter().fold(Xd::ZERO, |a, x| a + *x * *x).sqrt().to_f64();
+        let (regime, motion, rate) = Self::classify(&moments, &omega0, &orientation0)?;
+        let t_max = if rate.is_zero() {
+            f64::INFINITY
+        } else {
+            (Xd::from_dd(Dd::TAU * PHASE_TURNS) / rate).to_f64()
+        };
         Ok(FreeRotation {
             moments,
             omega0,
@@ -294,31 +437,45 @@ impl FreeRotation {
             momentum,
             regime,
             motion,
+            t_max,
+            max_rate: rate.to_f64(),
         })
     }
 
+    /// The regime, the motion and its fastest angular rate.
     fn classify(
         moments: &Vector3<f64>,
         omega0: &Vector3<f64>,
-        m: &Vector3<f64>,
         q0: &UnitQuaternion<f64>,
-    ) -> (Regime, Motion) {
-        let steady = || {
-            let rate = norm_dd(omega0);
-            let axis = if rate.hi > 0.0 {
-                omega0 / rate.hi
-            } else {
-                Vector3::zeros()
-            };
-            Motion::Steady { axis, rate }
+    ) -> Result<(Regime, Motion, Xd)> {
+        let steady = || -> Result<(Motion, Xd)> {
+            let norm = omega0
+                .iter()
+                .fold(Xd::ZERO, |a, w| a + Xd::prod(*w, *w))
+                .sqrt();
+            if norm.is_zero() {
+                let motion = Motion::Steady {
+                    axis: Vector3::zeros(),
+                    rate: Dd::ZERO,
+                    rho: 0,
+                };
+                return Ok((motion, Xd::ZERO));
+            }
+            let rho = norm.e;
+            let rate = norm.ldexp(-rho).to_dd();
+            let axis = omega0.map(|w| ldexp(w, -rho) / rate.hi);
+            Ok((Motion::Steady { axis, rate, rho }, norm))
         };
         if omega0.iter().all(|w| *w == 0.0) {
-            return (Regime::Rest, steady());
+            let (motion, rate) = steady()?;
+            return Ok((Regime::Rest, motion, rate));
         }
         let (i0, i1, i2) = (moments[0], moments[1], moments[2]);
         if i0 == i1 && i1 == i2 {
-            return (Regime::Spherical, steady());
+            let (motion, rate) = steady()?;
+            return Ok((Regime::Spherical, motion, rate));
         }
+        let mx = [0, 1, 2].map(|i| Xd::prod(moments[i], omega0[i]));
         if i0 == i1 || i1 == i2 || i0 == i2 {
             let s = if i0 == i1 {
                 2
@@ -329,87 +486,122 @@ impl FreeRotation {
             };
             let it = moments[(s + 1) % 3];
             let is = moments[s];
-            let g = [0, 1, 2]
-                .map(|i| Dd::prod(moments[i], omega0[i]))
-                .iter()
-                .fold(Dd::ZERO, |acc, x| acc + *x * *x)
-                .sqrt();
+            let g = mx.iter().fold(Xd::ZERO, |acc, x| acc + *x * *x).sqrt();
+            let nutation = g / it;
+            let body = Xd::sum(is, -it).mul_f64(omega0[s]) / it;
+            let rho = nutation.e;
+            // m0 / G, each component rounded once.
+            let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
+            let body_rate = body.ldexp(-rho).to_dd();
             let sym = Symmetric {
                 axis: s,
-                nutation_rate: g / it,
-                m_dir: m / g.hi,
-                body_rate: Dd::sum(is, -it) * omega0[s] / it,
+                rho,
+                nutation_rate: nutation.ldexp(-rho).to_dd(),
+                m_dir,
+                body_rate: if body_rate.hi.abs() < f64::MIN_POSITIVE {
+                    Dd::ZERO
+                } else {
+                    body_rate
+                },
             };
-            return (Regime::Symmetric { axis: s }, Motion::Symmetric(sym));
+            let rate = if nutation.abs_lt(body) {
+                body.abs()
+            } else {
+                nutation
+            };
+            return Ok((Regime::Symmetric { axis: s }, Motion::Symmetric(sym), rate));
         }
         let mut order = [0usize, 1, 2];
         order.sort_by(|a, b| moments[*a].total_cmp(&moments[*b]));
         let [lo, mid, hi] = order;
-        let zeros = m.iter().filter(|x| **x == 0.0).count();
+        let zeros = omega0.iter().filter(|x| **x == 0.0).count();
         if zeros == 2 {
-            let axis = (0..3).find(|i| m[*i] != 0.0).unwrap_or(mid);
+            let axis = (0..3).find(|i| omega0[*i] != 0.0).unwrap_or(mid);
             let regime = if axis == mid {
                 Regime::SteadyIntermediate
             } else {
                 Regime::AboutAxis(axis)
             };
-            return (regime, steady());
+            let (motion, rate) = steady()?;
+            return Ok((regime, motion, rate));
         }
-        // Scale momenta and moments by powers of two (exact).
-        let ms = pow2_near(m.amax());
-        let is = pow2_near(moments.max());
-        let mh = m / ms;
-        // The exact products I_i w_i (double-double), scaled.
-        let mdd: [Dd; 3] = [0, 1, 2].map(|i| Dd::prod(moments[i], omega0[i]) * (1.0 / ms));
-        let ih = moments / is;
-        let rate_scale = ms / is;
-        // Delta_2 = m_lo^2 (I_lo - I_mid)/I_lo + m_hi^2 (I_hi - I_mid)/I_hi, in double-double.
-        let delta2 = mdd[lo] * mdd[lo] * Dd::sum(ih[lo], -ih[mid]) / ih[lo]
-            + mdd[hi] * mdd[hi] * Dd::sum(ih[hi], -ih[mid]) / ih[hi];
-        let (polar, other) = if delta2.hi < 0.0 { (lo, hi) } else { (hi, lo) };
+        // Units: momenta 2^mu (about the largest |I_i w_i|), moments 2^iota (about the largest
+        // moment), both even powers; time 2^-rho, rho = mu - iota.
+        let mmax = mx
+            .iter()
+            .copied()
+            .fold(Xd::ZERO, |a, x| if a.abs_lt(x) { x.abs() } else { a });
+        let mu = even_exponent(mmax);
+        let iota = even_exponent(Xd::new(moments.max()));
+        let rho = mu - iota;
+        // The double products I_i w_i (rounded once), in units of 2^mu.
+        let mh = [0, 1, 2].map(|i| {
+            if omega0[i] == 0.0 {
+                Sd::new(moments[i] * omega0[i], 0) // a zero with its sign
+            } else {
+                Sd::new(mx[i].m.to_f64(), mx[i].e - mu)
+            }
+        });
+        let ih = |i: usize| Xd::new(moments[i]);
+        // Delta_2 = m_lo^2 (I_lo - I_mid)/I_lo + m_hi^2 (I_hi - I_mid)/I_hi.
+        let delta2 = mx[lo] * mx[lo] * Xd::sum(moments[lo], -moments[mid]) / moments[lo]
+            + mx[hi] * mx[hi] * Xd::sum(moments[hi], -moments[mid]) / moments[hi];
+        let (polar, other) = if delta2.is_negative() {
+            (lo, hi)
+        } else {
+            (hi, lo)
+        };
         let frame = Frame::new([other, mid, polar]);
-        let mc3 = frame.to_canonical(&mh);
-        let ic = frame.index.map(|i| ih[i]);
-        let [i1, i2, i3] = ic;
+        let mc3 = frame.to_canonical_sd(&mh);
+        let [i1, i2, i3] = frame.index.map(|i| moments[i]);
+        let ic = frame.index.map(|i| ih(i).to_sd(iota));
         let [m1, m2, m3] = mc3;
-        let d21 = Dd::sum(i2, -i1);
-        let d31 = Dd::sum(i3, -i1);
-        let d32 = Dd::sum(i3, -i2);
-        let [n1, n2, n3] = [0, 1, 2].map(|i| mdd[frame.index[i]]);
-        let sq = |x: Dd| x * x;
+        let d21 = Xd::sum(i2, -i1);
+        let d31 = Xd::sum(i3, -i1);
+        let d32 = Xd::sum(i3, -i2);
+        let [n1, n2, n3] = [0, 1, 2].map(|i| mx[frame.index[i]]);
+        let sq = |x: Xd| x * x;
         let delta1 = sq(n2) * d21 / i2 + sq(n3) * d31 / i3;
         let mdelta3 = sq(n1) * d31 / i1 + sq(n2) * d32 / i2;
         let g = (sq(n1) + sq(n2) + sq(n3)).sqrt();
-        let lambda = (delta1 * d32 / (Dd::new(i1) * i2 * i3)).sqrt() * rate_scale;
+        let lambda = (delta1 * d32 / Xd::new(i1).mul_f64(i2).mul_f64(i3)).sqrt();
         // Amplitudes, as hypotenuses (no cancellation, no overflow).
-        let r = |x: Dd| x.to_f64().sqrt();
-        let b1 = m1.hypot(m2 * r(Dd::new(i1) * d32 / (d31 * i2)));
-        let b2 = (m1 * r(Dd::new(i2) * d31 / (d32 * i1))).hypot(m2);
-        let b3 = (m2 * r(Dd::new(i3) * d21 / (d31 * i2))).hypot(m3);
+        let r = |x: Xd| x.to_sd(0).sqrt();
+        let b1 = Sd::hypot(m1, m2.mul(r(Xd::new(i1) * d32 / d31.mul_f64(i2))));
+        let b2 = Sd::hypot(m1.mul(r(Xd::new(i2) * d31 / d32.mul_f64(i1))), m2);
+        let b3 = Sd::hypot(m2.mul(r(Xd::new(i3) * d21 / d31.mul_f64(i2))), m3);
         let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
-        let s3 = sign(m3);
+        let s3 = sign(m3.x);
         // Euler polar axis: canonical axis 1 or 3, so that the other one, x, has 1/I_x
         // closest to 1/I2: then phi' = G/I_x + G (1/I2 - 1/I_x) (weight in [0, 1]) has the
         // smallest varying part (never more than a factor 2 of cancellation).
-        let polar_c1 = (1.0 / i2 - 1.0 / i3).abs() <= (1.0 / i2 - 1.0 / i1).abs();
+        let polar_c1 = {
+            let [j1, j2, j3] = ic.map(|x| x.to_f64());
+            if ic.iter().all(|x| x.e == 0) {
+                (1.0 / j2 - 1.0 / j3).abs() <= (1.0 / j2 - 1.0 / j1).abs()
+            } else {
+                // |1/I2 - 1/I3| <= |1/I2 - 1/I1|  <=>  |I3 - I2| I1 <= |I2 - I1| I3.
+                !(d21.abs().mul_f64(i3)).abs_lt(d32.abs().mul_f64(i1))
+            }
+        };
         let i_x = if polar_c1 { i3 } else { i1 };
-        let base_rate = g / i_x * rate_scale;
+        let base_rate = g / i_x;
         // C = G (1/I2 - 1/I_x) (B2/Bh)^2 / lambda and nu, Bh = B3 or B1.
-        let dxm = Dd::sum(i_x, -i2) / (Dd::new(i2) * i_x);
+        let dxm = Xd::sum(i_x, -i2) / Xd::new(i2).mul_f64(i_x);
         let (ratio, nu) = if polar_c1 {
             // G^2 - m1^2 = B3^2 + B1^2 sn^2: nu = B1^2/B3^2 = I1 (-Delta3) / (I3 Delta1).
             (
-                Dd::new(i2) * mdelta3 * d31 / (d32 * i3 * delta1),
-                Dd::new(i1) * mdelta3 / (delta1 * i3),
+                Xd::new(i2) * mdelta3 * d31 / (d32.mul_f64(i3) * delta1),
+                Xd::new(i1) * mdelta3 / delta1.mul_f64(i3),
             )
         } else {
             // G^2 - m3^2 = B1^2 + m B3^2 sn^2: nu = m B3^2/B1^2 = I3 (I2 - I1) / (I1 (I3 - I2)).
             (
-                Dd::new(i2) * d31 / (d32 * i1),
-                Dd::new(i3) * d21 / (d32 * i1),
+                Xd::new(i2) * d31 / d32.mul_f64(i1),
+                Xd::new(i3) * d21 / d32.mul_f64(i1),
             )
         };
-        let coef = g * dxm * ratio / lambda * rate_scale;
+        let coef = g * dxm * ratio / lambda;
         // The Euler frame: the canonical frame or its cyclic shift (2, 3, 1).
         let euler_frame = if polar_c1 {
             Frame {
@@ -423,107 +615,258 @@ impl FreeRotation {
         let euler = if polar_c1 { [m2, m3, m1] } else { [m1, m2, m3] };
         let (theta0, psi0) = theta_psi(euler);
         let q_l = q0 * q_e * qz(-psi0) * qx(-theta0);
+        let nu_dd = nu.to_dd();
+        let lambda_dd = checked_dd(lambda.ldexp(-rho), "rates")?;
+        let base_dd = checked_dd(base_rate.ldexp(-rho), "rates")?;
+        let coef_dd = coef.to_dd();
+        if !(coef_dd.hi.is_finite() && nu_dd.hi.is_finite()) {
+            return Err(too_wide("rates"));
+        }
+        // The largest precession rate, |G/I_x| + |C| lambda / (1 + nu).
+        let phi_rate = base_rate.abs() + coef.abs() * lambda / (Xd::new(1.0) + nu);
         let mut common = Common {
             frame,
             moments: ic,
             b: [b1, b2, b3],
-            s: [sign(m1), s3 * sign(i3 - i2), s3],
-            rate_scale,
-            lambda,
+            s: [sign(m1.x), s3 * sign(i3 - i2), s3],
+            rho,
+            lambda: lambda_dd,
             u0: Dd::ZERO,
+            u0_q: 0,
             euler_cyclic: polar_c1,
-            base_rate,
-            coef,
-            nu: nu.to_f64(),
-            nu_dd: nu,
+            base_rate: base_dd,
+            coef: coef_dd,
+            nu: nu_dd.to_f64(),
+            nu_dd,
             j0: Dd::ZERO,
             q_l,
             q_e_inv: q_e.inverse(),
         };
-        let mc_dd = delta2 * d31 / (delta1 * d32);
-        if delta2.hi == 0.0 || mc_dd.hi <= 0.0 {
-            // Separatrix: s2 = s1 s3 sign(I3 - I2); sinh u0 = s2 m2 / hypot(m1, m3).
+        let mc_x = delta2 * d31 / (delta1 * d32);
+        if delta2.is_zero() || mc_x.is_zero() || mc_x.is_negative() {
+            // Separatrix: s2 = s1 s3 sign(I3 - I2); e^u0 = (G + s2 m2) / hypot(m1, m3).
             common.s[1] = common.s[0] * s3 * sign(i3 - i2);
-            common.b[1] = g.to_f64();
-            let u0 = (common.s[1] * m2 / m1.hypot(m3)).asinh();
-            common.u0 = Dd::new(u0);
+            common.b[1] = g.to_sd(mu);
+            let y = n2.mul_f64(common.s[1] * frame.sign[1]);
+            let h = (sq(n1) + sq(n3)).sqrt();
+            let e0 = if y.is_negative() {
+                h / (g - y)
+            } else {
+                (g + y) / h
+            };
+            let u0 = e0.ln();
+            common.u0 = u0;
             let mut sep = Separatrix { c: common };
-            sep.c.j0 = sep.j(Dd::new(u0));
-            return (Regime::Separatrix, Motion::Separatrix(Box::new(sep)));
+            sep.c.j0 = sep.j(u0);
+            return Ok((
+                Regime::Separatrix,
+                Motion::Separatrix(Box::new(sep)),
+                phi_rate,
+            ));
         }
         // Elliptic: the sign of m1 is carried by cn.
         common.s[0] = 1.0;
-        let mc = mc_dd.to_f64();
-        let k = ellipk_dd(mc_dd);
-        let kp_dd = mc_dd.sqrt();
-        let j_half = cel(kp_dd, nu + 1.0, Dd::ZERO, Dd::ONE) * 2.0;
-        let jc_quarter = cel(kp_dd, nu + 1.0, Dd::ONE, Dd::ZERO);
-        // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
-        // reflected about K when cn < 0.
-        let c0 = (m1 / b1).clamp(-1.0, 1.0);
-        let s0 = (common.s[1] * m2 / b2).clamp(-1.0, 1.0);
-        let f = s0 * carlson_rf(c0 * c0, c0 * c0 + mc * s0 * s0, 1.0);
-        let u0 = if c0 >= 0.0 {
-            Dd::new(f)
+        let kp_x = mc_x.sqrt();
+        let ell = if kp_x.e >= -100 {
+            let mc_dd = mc_x.to_dd();
+            let mc = mc_dd.to_f64();
+            let k = ellipk_dd(mc_dd);
+            let kp_dd = mc_dd.sqrt();
+            let j_half = cel(kp_dd, nu_dd + 1.0, Dd::ZERO, Dd::ONE) * 2.0;
+            let jc_quarter = cel(kp_dd, nu_dd + 1.0, Dd::ONE, Dd::ZERO);
+            // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
+            // reflected about K when cn < 0. In the outer half (c^2 < k'), u0 = +-(K - v) with
+            // y = sd v = |c| / k' (cn(K - v) = k' sd v): v = y R_F(1 - c^2, 1, 1 + k^2 y^2)
+            // (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so that a small cn keeps its digits.
+            let c0 = m1.div(b1).to_f64().clamp(-1.0, 1.0);
+            let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
+            let kp = kp_dd.to_f64();
+            if c0 * c0 < kp {
+                let y = c0.abs() / kp;
+                let v = y * carlson_rf(1.0 - c0 * c0, 1.0, 1.0 + (1.0 - mc) * (y * y));
+                // u0 = sign(s0) (K -+ v), -+ as cn >= 0 or < 0.
+                common.u0_q = sign(s0) as i64;
+                common.u0 = Dd::new(v * -sign(s0) * sign(c0));
+            } else {
+                let f = s0 * carlson_rf(c0 * c0, c0 * c0 + mc * s0 * s0, 1.0);
+                common.u0 = if c0 >= 0.0 {
+                    Dd::new(f)
+                } else {
+                    k * (2.0 * sign(s0)) - f
+                };
+            }
+            Elliptic {
+                c: common,
+                mc,
+                kp,
+                kp_exp: 0,
+                tiny: false,
+                k,
+                j_half,
+                jc_quarter,
+            }
         } else {
-            k * (2.0 * sign(s0)) - f
+            // k' < 2^-100: K = pi / (2 AGM((1 + k')/2, sqrt(k'))), the rest hyperbolic.
+            let kp = kp_x.to_sd(0);
+            let a1 = (Dd::ONE + kp_x.to_dd()) * 0.5;
+            let k = Dd::PI / (a1 * agm1(kp_x.sqrt().to_dd() / a1) * 2.0);
+            let jc_quarter = cel(
+                Dd::new(kp_x.to_f64().max(1e-300)),
+                nu_dd + 1.0,
+                Dd::ONE,
+                Dd::ZERO,
+            );
+            let j_half = (k - jc_quarter) * 2.0 / (nu_dd + 1.0);
+            let c0 = m1.div(b1);
+            let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
+            let ca = Xd::new(c0.x.abs()).ldexp(c0.e);
+            if (ca * ca).abs_lt(kp_x) {
+                // Near u = K: cn(K - v) = k' sinh v; u0 = sign(s0) (K -+ v).
+                let v = asinh_xd(ca / kp_x);
+                common.u0_q = sign(s0) as i64;
+                common.u0 = v * (-sign(s0) * sign(c0.x));
+            } else {
+                // sinh u = sn / cn.
+                let f = asinh_xd(Xd::new(s0.abs()) / ca) * sign(s0);
+                if c0.x >= 0.0 {
+                    common.u0 = f;
+                } else {
+                    common.u0_q = 2 * sign(s0) as i64;
+                    common.u0 = -f;
+                }
+            }
+            Elliptic {
+                c: common,
+                mc: 0.0,
+                kp: kp.x,
+                kp_exp: kp.e,
+                tiny: true,
+                k,
+                j_half,
+                jc_quarter,
+            }
         };
-        common.u0 = u0;
-        let mut ell = Elliptic {
-            c: common,
-            mc,
-            kp: kp_dd.to_f64(),
-            k,
-            j_half,
-            jc_quarter,
+        let mut ell = ell;
+        ell.c.j0 = ell.phase(ell.c.u(0.0)).3;
+        // The fastest angle: the precession or the phase of omega, 2 pi lambda / 4K.
+        let omega_rate = (lambda * Xd::from_dd(Dd::TAU)) / Xd::from_dd(ell.k * 4.0);
+        let rate = if phi_rate.abs_lt(omega_rate) {
+            omega_rate
+        } else {
+            phi_rate
         };
-        ell.c.j0 = ell.phase(u0).3;
-        (Regime::AboutAxis(polar), Motion::Elliptic(Box::new(ell)))
+        Ok((
+            Regime::AboutAxis(polar),
+            Motion::Elliptic(Box::new(ell)),
+            rate,
+        ))
+    }
+
+    /// Body angular velocity at time `t` (NaN beyond [`FreeRotation::max_time`]: use
+    /// [`FreeRotation::try_omega`] for an error there).
+    pub fn omega(&self, t: f64) -> Vector3<f64> {
+        self.try_omega(t)
+            .unwrap_or_else(|_| Vector3::repeat(f64::NAN))
+    }
+
+    /// Body angular velocity and orientation (body to space) at time `t` (NaN beyond
+    /// [`FreeRotation::max_time`]: use [`FreeRotation::try_state`] for an error there).
+    pub fn state(&self, t: f64) -> (Vector3<f64>, UnitQuaternion<f64>) {
+        self.try_state(t).unwrap_or_else(|_| {
+            (
+                Vector3::repeat(f64::NAN),
+                UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+                    f64::NAN,
+                    f64::NAN,
+                    f64::NAN,
+                    f64::NAN,
+                )),
+            )
+        })
+    }
+
+    /// The largest `|t|` at which the phase of the motion keeps digits in double precision:
+    /// there one ulp of `t` turns the fastest angle of the motion by a quarter turn (module
+    /// doc); `inf` at rest.
+    pub fn max_time(&self) -> f64 {
+        self.t_max
+    }
+
+    /// An error for a non-finite time or one beyond the bound.
+    fn check_time(&self, t: f64) -> Result<()> {
+        if !t.is_finite() {
+            return finite("t", t).map(|_| ());
+        }
+        if t.abs() > self.t_max {
+            return Err(Error::InvalidArgument {
+                name: "t".into(),
+                reason: format!(
+                    "|t| = {:e} is beyond {:e}, the largest time at which the phase of this \
+                     motion keeps digits in double precision (there one ulp of t turns its \
+                     fastest angle, {:e} rad per unit time, by a quarter turn).",
+                    t.abs(),
+                    self.t_max,
+                    self.max_rate
+                ),
+            });
+        }
+        Ok(())
     }
 
     /// Body angular velocity at time `t`.
-    pub fn omega(&self, t: f64) -> Vector3<f64> {
-        match &self.motion {
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite `t`, [`Error::InvalidArgument`] for
+    /// `|t| >` [`FreeRotation::max_time`].
+    pub fn try_omega(&self, t: f64) -> Result<Vector3<f64>> {
+        self.check_time(t)?;
+        Ok(match &self.motion {
             Motion::Steady { .. } => self.omega0,
             Motion::Symmetric(s) => s.omega(&self.omega0, t),
             Motion::Elliptic(e) => {
-                let (sn, cn, dn, _) = e.phase(e.c.u(t));
-                e.c.omega([cn, sn, dn])
+                let (sn, cn, dn, _, kappa) = e.phase(e.c.u(t));
+                e.c.omega([cn, sn, dn], kappa)
             }
             Motion::Separatrix(s) => {
                 let u = s.c.u(t);
-                let (th, sech) = tanh_sech(u.to_f64());
-                s.c.omega([sech, th, sech])
+                let (th, sech, _, _, kappa) = hyperbolic(u);
+                s.c.omega([sech, th, sech], kappa)
             }
-        }
+        })
     }
 
     /// Body angular velocity and orientation (body to space) at time `t`.
-    pub fn state(&self, t: f64) -> (Vector3<f64>, UnitQuaternion<f64>) {
-        match &self.motion {
-            Motion::Steady { axis, rate } => (
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite `t`, [`Error::InvalidArgument`] for
+    /// `|t| >` [`FreeRotation::max_time`].
+    pub fn try_state(&self, t: f64) -> Result<(Vector3<f64>, UnitQuaternion<f64>)> {
+        self.check_time(t)?;
+        Ok(match &self.motion {
+            Motion::Steady { axis, rate, rho } => (
                 self.omega0,
-                self.orientation0 * q_axis(axis, wrap(*rate * (0.5 * t))),
+                self.orientation0 * q_axis(axis, wrap(*rate * (0.5 * ldexp(t, *rho)))),
             ),
             Motion::Symmetric(s) => {
                 let w = s.omega(&self.omega0, t);
                 let e_s = Vector3::ith(s.axis, 1.0);
+                let tau = ldexp(t, s.rho);
                 let q = self.orientation0
-                    * q_axis(&s.m_dir, wrap(s.nutation_rate * (0.5 * t)))
-                    * q_axis(&e_s, wrap(-(s.body_rate * (0.5 * t))));
+                    * q_axis(&s.m_dir, wrap(s.nutation_rate * (0.5 * tau)))
+                    * q_axis(&e_s, wrap(-(s.body_rate * (0.5 * tau))));
                 (w, q)
             }
             Motion::Elliptic(e) => {
                 let u = e.c.u(t);
-                let (sn, cn, dn, j) = e.phase(u);
-                e.c.state(t, [cn, sn, dn], j)
+                let (sn, cn, dn, j, kappa) = e.phase(u);
+                e.c.state(t, [cn, sn, dn], kappa, j)
             }
             Motion::Separatrix(s) => {
                 let u = s.c.u(t);
-                let (th, sech) = tanh_sech(u.to_f64());
-                s.c.state(t, [sech, th, sech], s.j(u))
+                let (th, sech, _, _, kappa) = hyperbolic(u);
+                s.c.state(t, [sech, th, sech], kappa, s.j(u))
             }
-        }
+        })
     }
 
     /// The kind of motion.
@@ -533,27 +876,28 @@ impl FreeRotation {
 
     /// Period of the body angular velocity: `4 K / lambda` for three distinct moments,
     /// `2 pi / |Omega|` for a symmetric top; `None` if the motion is not periodic (rest, steady
-    /// rotation, separatrix).
+    /// rotation, separatrix) or its period is beyond the range of doubles.
     pub fn period(&self) -> Option<f64> {
-        match &self.motion {
+        let p = match &self.motion {
             Motion::Steady { .. } | Motion::Separatrix(_) => None,
             Motion::Symmetric(s) => {
-                let ws = self.omega0[s.axis];
-                let perp = self.omega0.norm_squared() - ws * ws;
-                if s.body_rate.hi == 0.0 || perp.is_nan() || perp <= 0.0 {
+                let (a, b) = ((s.axis + 1) % 3, (s.axis + 2) % 3);
+                let perp = self.omega0[a] != 0.0 || self.omega0[b] != 0.0;
+                if s.body_rate.hi == 0.0 || !perp {
                     None
                 } else {
-                    Some((Dd::TAU / s.body_rate.abs()).to_f64())
+                    Some(Xd::from_dd(Dd::TAU / s.body_rate.abs()).ldexp(-s.rho))
                 }
             }
             Motion::Elliptic(e) => {
-                if e.c.b[0] == 0.0 {
+                if e.c.b[0].x == 0.0 {
                     None
                 } else {
-                    Some((e.k * 4.0 / e.c.lambda).to_f64())
+                    Some(Xd::from_dd(e.k * 4.0 / e.c.lambda).ldexp(-e.c.rho))
                 }
             }
-        }
+        };
+        p.map(|x| x.to_f64()).filter(|x| x.is_finite())
     }
 
     /// Kinetic energy `T = omega . I omega / 2` (constant).
@@ -577,22 +921,10 @@ impl FreeRotation {
     }
 }
 
-/// `(tanh u, sech u)` without overflow.
-fn tanh_sech(u: f64) -> (f64, f64) {
-    let a = u.abs();
-    let sech = if a > 700.0 {
-        0.0
-    } else {
-        let e = (-a).exp();
-        2.0 * e / (1.0 + e * e)
-    };
-    (u.tanh(), sech)
-}
-
 impl Symmetric {
     fn omega(&self, omega0: &Vector3<f64>, t: f64) -> Vector3<f64> {
         let (a, b) = ((self.axis + 1) % 3, (self.axis + 2) % 3);
-        let (s, c) = wrap(self.body_rate * t).sin_cos();
+        let (s, c) = wrap(self.body_rate * ldexp(t, self.rho)).sin_cos();
         let mut w = *omega0;
         w[a] = c * omega0[a] - s * omega0[b];
         w[b] = s * omega0[a] + c * omega0[b];
@@ -602,51 +934,115 @@ impl Symmetric {
 
 impl Common {
     fn u(&self, t: f64) -> Dd {
-        self.lambda * t + self.u0
+        self.lambda * ldexp(t, self.rho) + self.u0
     }
 
-    /// Body angular velocity from `(cn, sn, dn)`-like factors of the three canonical components.
-    fn omega(&self, f: [f64; 3]) -> Vector3<f64> {
-        let mc = self.canonical_m(f);
-        let w = [0, 1, 2].map(|i| mc[i] / self.moments[i] * self.rate_scale);
+    /// Body angular velocity from `(cn, sn, dn)`-like factors of the three canonical
+    /// components, the first and the third times `2^kappa`.
+    fn omega(&self, f: [f64; 3], kappa: i32) -> Vector3<f64> {
+        let w = [0, 1, 2].map(|i| {
+            let k = if i == 1 { 0 } else { kappa };
+            let x = self.s[i] * self.b[i].x * f[i] / self.moments[i].x;
+            ldexp(x, self.rho + self.b[i].e - self.moments[i].e + k)
+        });
         self.frame.to_body(w)
     }
 
-    fn canonical_m(&self, f: [f64; 3]) -> [f64; 3] {
-        [0, 1, 2].map(|i| self.s[i] * self.b[i] * f[i])
+    /// The canonical momenta (units of `2^mu`), with their exponents.
+    fn canonical_m(&self, f: [f64; 3], kappa: i32) -> [Sd; 3] {
+        [0, 1, 2].map(|i| {
+            let k = if i == 1 { 0 } else { kappa };
+            Sd::new(self.s[i] * self.b[i].x * f[i], self.b[i].e + k)
+        })
     }
 
-    fn state(&self, t: f64, f: [f64; 3], j: Dd) -> (Vector3<f64>, UnitQuaternion<f64>) {
-        let m = self.canonical_m(f);
-        let w = [0, 1, 2].map(|i| m[i] / self.moments[i] * self.rate_scale);
+    fn state(&self, t: f64, f: [f64; 3], kappa: i32, j: Dd) -> (Vector3<f64>, UnitQuaternion<f64>) {
+        let m = self.canonical_m(f, kappa);
         let euler = if self.euler_cyclic {
             [m[1], m[2], m[0]]
         } else {
             m
         };
         let (theta, psi) = theta_psi(euler);
-        let phi = wrap(self.base_rate * t + self.coef * (j - self.j0));
+        let phi = wrap(self.base_rate * ldexp(t, self.rho) + self.coef * (j - self.j0));
         let q = self.q_l * qz(phi) * qx(theta) * qz(psi) * self.q_e_inv;
-        (self.frame.to_body(w), q)
+        (self.omega(f, kappa), q)
     }
 }
 
 impl Elliptic {
-    /// `(sn, cn, dn)(u)` and `J(u)` for the phase `u`.
-    fn phase(&self, u: Dd) -> (f64, f64, f64, Dd) {
-        let k2 = self.k * 2.0;
-        let j = (u / k2).round();
-        let w = u - k2 * j.hi - k2 * j.lo;
-        let (q, v) = reduce_quarter(w, self.k);
-        let (s, c, d) = sncndn_quarter(q, v, self.mc, self.kp);
-        let jw = self.j_reduced(w, s, c, d);
+    /// `(sn, cn, dn)` and `J` at the phase `u + u0_q K`, with `cn` and `dn` in units of
+    /// `2^kappa`.
+    fn phase(&self, u: Dd) -> (f64, f64, f64, Dd, i32) {
+        // u + u0_q K = 2 K j + w, |w| <= K; w = q K + v, |v| <= K/2.
+        let (j, q, v, w) = if self.c.u0_q == 0 {
+            let k2 = self.k * 2.0;
+            let j = (u / k2).round();
+            let w = u - k2 * j.hi - k2 * j.lo;
+            let (q, v) = reduce_quarter_dd(w, self.k);
+            (j, q, v, w)
+        } else {
+            // The quarters of u0 are added as an integer, so that v keeps its digits.
+            let (qr, v) = reduce_quarter_dd(u, self.k);
+            let qt = qr + self.c.u0_q;
+            let (j, q) = if qt.rem_euclid(2) == 0 {
+                (qt.div_euclid(2), 0)
+            } else if v.hi >= 0.0 {
+                ((qt + 1).div_euclid(2), -1)
+            } else {
+                ((qt - 1).div_euclid(2), 1)
+            };
+            (Dd::new(j as f64), q, v, self.k * (q as f64) + v)
+        };
+        let (s, c, d, kappa, jw) = if self.tiny {
+            self.reduced_tiny(q, v, w)
+        } else {
+            let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
+            (s, c, d, 0, self.j_reduced(w, s, c, d))
+        };
         let jj = self.j_half * j.hi + self.j_half * j.lo + jw;
         let sg = if j.to_f64().rem_euclid(2.0) == 1.0 {
             -1.0
         } else {
             1.0
         };
-        (sg * s, sg * c, d, jj)
+        (sg * s, sg * c, d, jj, kappa)
+    }
+
+    /// `k' < 2^-100`: `(sn, cn / 2^kappa, dn / 2^kappa, kappa, J)` of `|w| <= K` from the
+    /// hyperbolic functions of `v`, `w = q K + v`, `|v| <= K/2` (module doc; the corrections are
+    /// `O(k')` relative).
+    fn reduced_tiny(&self, q: i64, v: Dd, w: Dd) -> (f64, f64, f64, i32, Dd) {
+        let (th, sech, sh, ch, k) = hyperbolic(v);
+        let (s, c, d, kappa) = match q.rem_euclid(4) {
+            0 => (th, sech, sech, k),
+            2 => (-th, -sech, sech, k),
+            // sn(K + v) = cn v / dn v = 1, cn(K + v) = -k' sn v / dn v, dn(K + v) = k' / dn v.
+            1 => (1.0, -self.kp * sh, self.kp * ch, self.kp_exp - k),
+            _ => (-1.0, self.kp * sh, self.kp * ch, self.kp_exp - k),
+        };
+        let nu = self.c.nu;
+        let s2 = s * s;
+        let j = if s2 * (2.0 + nu) <= 1.0 {
+            // |w| well inside the quarter: cn, dn = O(1).
+            let (c, d) = (ldexp(c, kappa), ldexp(d, kappa));
+            Dd::new(s * s2 / 3.0 * carlson_rj(c * c, d * d, 1.0, 1.0 + nu * s2))
+        } else {
+            // J(w) = (|w| - Jc(|w|)) / (1 + nu), Jc(w) = atan(sqrt(nu) |sn w|) / sqrt(nu).
+            let r = nu.sqrt();
+            let jc = if r > 0.0 {
+                (r * s.abs()).atan() / r
+            } else {
+                s.abs()
+            };
+            let jabs = (w.abs() - jc) / (self.c.nu_dd + 1.0);
+            if w.hi < 0.0 {
+                -jabs
+            } else {
+                jabs
+            }
+        };
+        (s, c, d, kappa, j)
     }
 
     /// `J(w)` for `|w| <= K` from `s, c, d = sn, cn, dn (w)`.
@@ -715,10 +1111,11 @@ mod tests {
             let r = f.quaternion().to_rotation_matrix();
             assert!((r.matrix().determinant() - 1.0).abs() < 1e-15);
             let v = Vector3::new(0.3, -1.2, 2.5);
-            let back = f.to_body(f.to_canonical(&v));
+            let c = f.to_canonical_sd(&[0, 1, 2].map(|i| Sd::new(v[i], 0)));
+            let c = c.map(|x| x.to_f64());
+            let back = f.to_body(c);
             assert_eq!(back, v);
             // The canonical components are the components in the rotated frame.
-            let c = f.to_canonical(&v);
             let w = r.inverse() * v;
             assert!((Vector3::from(c) - w).norm() < 1e-15);
         }
@@ -729,6 +1126,19 @@ mod tests {
         let x = Dd::TAU * 1e12 + 0.25;
         assert!((wrap(x) - 0.25).abs() < 1e-15);
         assert!((wrap(Dd::new(-4.0)) - (-4.0 + std::f64::consts::TAU)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn hyperbolic_functions_keep_relative_accuracy() {
+        // sech(700.5) = 1.196039223727958241282421466099...e-304 (mpmath, 40 digits).
+        let (th, sech, sh, ch, k) = hyperbolic(Dd::new(700.5));
+        assert_eq!(th, 1.0);
+        let got = ldexp(sech, k);
+        assert!((got - 1.196_039_223_727_958_3e-304).abs() <= 1.2e-304 * f64::EPSILON);
+        assert!((ldexp(ch, -k) * got - 1.0).abs() <= 2.0 * f64::EPSILON);
+        assert!((ldexp(sh, -k) * got - 1.0).abs() <= 2.0 * f64::EPSILON);
+        let (th, sech, _, _, k) = hyperbolic(Dd::new(-1e-12));
+        assert_eq!((th, sech, k), (-1e-12, 1.0, 0));
     }
 
     #[test]

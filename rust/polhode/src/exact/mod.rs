@@ -28,6 +28,7 @@ mod carlson;
 mod dd;
 mod elliptic;
 mod free_rotation;
+mod xd;
 
 pub use carlson::{carlson_rc, carlson_rd, carlson_rf, carlson_rj};
 pub use elliptic::{am, ellipf, ellipk, ellippi, ellippi_complete, sncndn};
