@@ -922,8 +922,12 @@ pub fn integrate_body(
             if k % 256 == 255 {
                 progress.look(t)?;
             }
-            let (w, q) = free.state(t - options.t0);
-            col.push(t, &w, Some(&q.coords))?;
+            if options.with_orientation {
+                let (w, q) = free.try_state(t - options.t0)?;
+                col.push(t, &w, Some(&q.coords))?;
+            } else {
+                col.push(t, &free.try_omega(t - options.t0)?, None)?;
+            }
         }
         progress.finish(times.last().copied().unwrap_or(options.t0));
         return Ok(Trajectory {
