@@ -38,7 +38,6 @@ pub mod splitting;
 mod state;
 mod system;
 pub mod torque;
-mod torque_spec;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
 pub(crate) use driver::{check_method, check_times};
@@ -56,6 +55,6 @@ pub use splitting::{
 };
 pub use state::{Moments, State};
 pub use torque::{
-    BodyFixed, Function, Gravity, GravityGradient, Segment, SpaceFixed, Sum, Torque, Window,
+    BodyContext, BodyFixed, Function, FunctionSpec, Gravity, GravityGradient, Segment, SpaceFixed,
+    Sum, Torque, TorqueFn, TorqueSpec, Window,
 };
-pub use torque_spec::{BodyContext, FunctionSpec, TorqueFn, TorqueSpec};
