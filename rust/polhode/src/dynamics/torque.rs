@@ -320,7 +320,8 @@ impl Torque for Gravity {
 /// radial direction at `t = 0`, both in space axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GravityGradient {
-    moments: Vector3<f64>,
+    /// The inertia tensor in the axes the torque is evaluated in (diagonal in principal axes).
+    inertia: Matrix3<f64>,
     mean_motion: f64,
     radial0: Vector3<f64>,
     along0: Vector3<f64>,
@@ -365,7 +366,7 @@ impl GravityGradient {
         }
         let radial0 = in_plane / p_norm;
         Ok(Self {
-            moments,
+            inertia: Matrix3::from_diagonal(&moments),
             mean_motion,
             radial0,
             along0: k.cross(&radial0),
@@ -389,7 +390,7 @@ impl Torque for GravityGradient {
     ) -> Vector3<f64> {
         let r = orientation.inverse_transform_vector(&self.radial_space(t));
         let n2 = self.mean_motion * self.mean_motion;
-        (3.0 * n2) * r.cross(&self.moments.component_mul(&r))
+        (3.0 * n2) * r.cross(&(self.inertia * r))
     }
     fn depends_on_omega(&self) -> bool {
         false
@@ -978,15 +979,9 @@ impl TorqueSpec {
                 mean_motion,
                 orbit_normal,
                 radial0,
-            } => Box::new(GravityGradientIn {
-                orbit: GravityGradient::new(
-                    Vector3::repeat(1.0),
-                    *mean_motion,
-                    *orbit_normal,
-                    *radial0,
-                )?,
-                mean_motion: *mean_motion,
+            } => Box::new(GravityGradient {
                 inertia: body.inertia,
+                ..GravityGradient::new(Vector3::repeat(1.0), *mean_motion, *orbit_normal, *radial0)?
             }),
             TorqueSpec::Window { start, end, torque } => {
                 Box::new(Window::new(torque.build(body)?, *start, *end)?)
@@ -1025,28 +1020,4 @@ pub struct BodyContext {
     /// Mass and centre of mass seen from the pivot, in body axes, when the body was given as
     /// mass properties and the torque has a pivot.
     pub mass_about_pivot: Option<(f64, Vector3<f64>)>,
-}
-
-/// [`GravityGradient`] with the full inertia tensor of the axes it is evaluated in:
-/// `3 n^2 r x (I r)`.
-struct GravityGradientIn {
-    orbit: GravityGradient,
-    mean_motion: f64,
-    inertia: Matrix3<f64>,
-}
-
-impl Torque for GravityGradientIn {
-    fn torque_body(
-        &self,
-        t: f64,
-        _omega: &Vector3<f64>,
-        orientation: &UnitQuaternion<f64>,
-    ) -> Vector3<f64> {
-        let r = orientation.inverse_transform_vector(&self.orbit.radial_space(t));
-        let n2 = self.mean_motion * self.mean_motion;
-        (3.0 * n2) * r.cross(&(self.inertia * r))
-    }
-    fn depends_on_omega(&self) -> bool {
-        false
-    }
 }
