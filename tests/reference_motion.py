@@ -799,9 +799,13 @@ def _q_axis(axis, angle):
     return [axis[0] * s, axis[1] * s, axis[2] * s, mp.cos(angle / 2)]
 
 
+_TAIL_INTEGRALS: dict = {}
+
+
 def _pi_at_m1(u, n, tail):
     """Pi(gd u; n | 1) = int_0^u dx / (1 - n tanh^2 x), by quadrature (the integrand is
-    1 / (1 - n) beyond ``tail`` to the working precision)."""
+    1 / (1 - n) beyond ``tail`` to the working precision; the integral up to ``tail`` is
+    computed once per precision)."""
     a = abs(u)
 
     def f(x):
@@ -810,7 +814,13 @@ def _pi_at_m1(u, n, tail):
     def quad(b):
         return mp.quad(f, mp.linspace(0, b, max(2, int(b) + 2)))
 
-    val = quad(a) if a <= tail else quad(tail) + (a - tail) / (1 - n)
+    if a <= tail:
+        val = quad(a)
+    else:
+        key = (n, tail, mp.mp.prec)
+        if key not in _TAIL_INTEGRALS:
+            _TAIL_INTEGRALS[key] = quad(tail)
+        val = _TAIL_INTEGRALS[key] + (a - tail) / (1 - n)
     return val if u >= 0 else -val
 
 

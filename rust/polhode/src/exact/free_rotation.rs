@@ -2,8 +2,10 @@
 //!
 //! Euler's equations in principal axes, `I1 w1' + (I3 - I2) w2 w3 = 0` and cyclic, with the
 //! orientation `q' = q (x) (0, w) / 2` (body to space). For body angular momentum `m = I w`,
-//! `G = |m|`, `2T = sum m_i^2 / I_i` and `Delta_j = G^2 - 2 T I_j` (computed without
-//! cancellation, in double-double):
+//! `G = |m|`, `2T = sum m_i^2 / I_i` and `Delta_j = G^2 - 2 T I_j` (`Delta_1` and `Delta_3`
+//! as sums of terms of one sign, in double-double; `Delta_2 = I_lo w_lo^2 (I_lo - I_mid) +
+//! I_hi w_hi^2 (I_hi - I_mid)` exactly, so that its sign is the regime and it vanishes exactly
+//! on the separatrix, with no band of rounding in between):
 //!
 //! - the polhode circulates about the axis `p` of the largest moment if `Delta_2 > 0` and of
 //!   the smallest if `Delta_2 < 0`. In a right-handed *canonical* frame `(1, 2, 3) = (a, mid, p)`
@@ -43,11 +45,14 @@
 //! The evaluation works in units that are powers of two (momenta in units of about `max |I w|`,
 //! moments of `max I`, time of their ratio: exact scalings), and each amplitude and moment that
 //! would leave the range of doubles in those units carries its own exponent ([`Sd`]), applied
-//! once to each output. When `|Delta_2|` is so small that `k' = sqrt(mc)` is below `2^-100`
+//! once to each output. When `|Delta_2|` is so small that `k' = sqrt(mc)` is below `2^-54`
 //! (`mc` itself may underflow), `K = pi / (2 AGM(1, k'))` is formed from `sqrt(k')`, the
-//! functions on `|v| <= K/2` are the hyperbolic ones (their corrections are `O(k')`, DLMF 22.10.2)
-//! and near `u = K` the shifted forms `cn(K + v) = -k' sinh v`, `dn(K + v) = k' cosh v` carry `k'`
-//! as a factor with its exponent.
+//! functions on `|v| <= K/2` are the hyperbolic ones of `v` in double-double (their corrections
+//! are at most `k'/4 < eps/4` relative, DLMF 22.10.4-6; below `k' = 2^-27` the first-order
+//! corrections are added, the next being `O(k'^2)`, and one Newton step makes `u0` as accurate),
+//! near `u = K` the shifted forms
+//! `cn(K + v) = -k' sinh v`, `dn(K + v) = k' cosh v` carry `k'` as a factor with its exponent,
+//! and `J(w) = (|w| - atan(sqrt(nu) |sn w|)/sqrt(nu)) / (1 + nu)` away from `w = 0` (`O(k')`).
 //!
 //! **The separatrix.** `sech u = 2 e / (1 + e^2)` and `tanh u = (1 - e^2)/(1 + e^2)` with
 //! `e = exp(-|u|)` in double-double (mantissa and exponent), `u = lambda t + u0` in double-double
@@ -69,7 +74,7 @@ use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use super::carlson::{carlson_rf, carlson_rj};
 use super::dd::{agm1, cel, Dd};
 use super::elliptic::{ellipk_dd, reduce_quarter_dd, sncndn_quarter};
-use super::xd::{asinh_xd, exp_dd, ldexp, Sd, Xd};
+use super::xd::{asinh_xd, exact_sum_a_b2_diff, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
 
@@ -233,16 +238,29 @@ struct Common {
 struct Elliptic {
     c: Common,
     mc: f64,
-    /// `k'`, or its mantissa (with exponent `kp_exp`) when `k' < 2^-100`.
+    /// `k'`, or its mantissa (with exponent `kp_exp`) when `k' < 2^-54`.
     kp: f64,
     kp_exp: i32,
-    /// `k' < 2^-100`: the hyperbolic forms (module doc).
-    tiny: bool,
+    /// How `sn, cn, dn` are evaluated (module doc).
+    functions: Functions,
     k: Dd,
     /// `J` over a half period `2K` of `u`: `2 cel(k', 1 + nu, 0, 1)`.
     j_half: Dd,
     /// `Jc(K) = int_0^K cn^2 / (1 + nu sn^2) = cel(k', 1 + nu, 1, 0)`.
     jc_quarter: Dd,
+}
+
+/// The evaluation of `sn, cn, dn` on `|v| <= K/2`, by `k'`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Functions {
+    /// `k' >= 2^-27`: the descending Landen transformation.
+    Landen,
+    /// `2^-54 <= k' < 2^-27`: the hyperbolic functions of `v` (double-double) with their
+    /// first-order corrections in `k'^2` (DLMF 22.10.4-6; the next are `O(k'^2)` relative).
+    Corrected,
+    /// `k' < 2^-54`: the hyperbolic functions of `v` (double-double), corrections below
+    /// `k'/4`.
+    Hyperbolic,
 }
 
 #[derive(Debug, Clone)]
@@ -543,9 +561,13 @@ impl FreeRotation {
             }
         });
         let ih = |i: usize| Xd::new(moments[i]);
-        // Delta_2 = m_lo^2 (I_lo - I_mid)/I_lo + m_hi^2 (I_hi - I_mid)/I_hi.
-        let delta2 = mx[lo] * mx[lo] * Xd::sum(moments[lo], -moments[mid]) / moments[lo]
-            + mx[hi] * mx[hi] * Xd::sum(moments[hi], -moments[mid]) / moments[hi];
+        // Delta_2 = m_lo^2 (I_lo - I_mid)/I_lo + m_hi^2 (I_hi - I_mid)/I_hi
+        //         = I_lo w_lo^2 (I_lo - I_mid) + I_hi w_hi^2 (I_hi - I_mid), exactly: its sign
+        // is the regime and it is zero exactly on the separatrix.
+        let delta2 = exact_sum_a_b2_diff(&[
+            (moments[lo], omega0[lo], moments[lo], moments[mid]),
+            (moments[hi], omega0[hi], moments[hi], moments[mid]),
+        ]);
         let (polar, other) = if delta2.is_negative() {
             (lo, hi)
         } else {
@@ -667,7 +689,7 @@ impl FreeRotation {
         // Elliptic: the sign of m1 is carried by cn.
         common.s[0] = 1.0;
         let kp_x = mc_x.sqrt();
-        let ell = if kp_x.e >= -100 {
+        let ell = if kp_x.e >= -54 {
             let mc_dd = mc_x.to_dd();
             let mc = mc_dd.to_f64();
             let k = ellipk_dd(mc_dd);
@@ -700,13 +722,17 @@ impl FreeRotation {
                 mc,
                 kp,
                 kp_exp: 0,
-                tiny: false,
+                functions: if kp_x.e >= -27 {
+                    Functions::Landen
+                } else {
+                    Functions::Corrected
+                },
                 k,
                 j_half,
                 jc_quarter,
             }
         } else {
-            // k' < 2^-100: K = pi / (2 AGM((1 + k')/2, sqrt(k'))), the rest hyperbolic.
+            // k' < 2^-54: K = pi / (2 AGM((1 + k')/2, sqrt(k'))), the rest hyperbolic.
             let kp = kp_x.to_sd(0);
             let a1 = (Dd::ONE + kp_x.to_dd()) * 0.5;
             let k = Dd::PI / (a1 * agm1(kp_x.sqrt().to_dd() / a1) * 2.0);
@@ -740,13 +766,27 @@ impl FreeRotation {
                 mc: 0.0,
                 kp: kp.x,
                 kp_exp: kp.e,
-                tiny: true,
+                functions: Functions::Hyperbolic,
                 k,
                 j_half,
                 jc_quarter,
             }
         };
         let mut ell = ell;
+        if ell.functions == Functions::Corrected {
+            // One Newton step on u0 with the accurate functions (u0 from R_F is good to eps |u0|,
+            // which a decaying cn or dn would feel as a relative error): on cn where
+            // |cn| <= |sn| (well conditioned there, cn(K - v) = k' sd v), on sn elsewhere.
+            let c0 = m1.div(b1).to_f64();
+            let s0 = m2.mul_f64(ell.c.s[1]).div(b2).to_f64();
+            let (s, c, d, _, _) = ell.phase(ell.c.u(0.0));
+            let delta = if c0.abs() <= s0.abs() {
+                (c - c0) / (s * d)
+            } else {
+                (s0 - s) / (c * d)
+            };
+            ell.c.u0 = ell.c.u0 + delta;
+        }
         ell.c.j0 = ell.phase(ell.c.u(0.0)).3;
         // The fastest angle: the precession or the phase of omega, 2 pi lambda / 4K.
         let omega_rate = (lambda * Xd::from_dd(Dd::TAU)) / Xd::from_dd(ell.k * 4.0);
@@ -994,11 +1034,16 @@ impl Elliptic {
             };
             (Dd::new(j as f64), q, v, self.k * (q as f64) + v)
         };
-        let (s, c, d, kappa, jw) = if self.tiny {
-            self.reduced_tiny(q, v, w)
-        } else {
-            let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
-            (s, c, d, 0, self.j_reduced(w, s, c, d))
+        let (s, c, d, kappa, jw) = match self.functions {
+            Functions::Hyperbolic => self.reduced_tiny(q, v, w),
+            Functions::Landen => {
+                let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
+                (s, c, d, 0, self.j_reduced(w, s, c, d))
+            }
+            Functions::Corrected => {
+                let (s, c, d) = self.corrected(q, v);
+                (s, c, d, 0, self.j_reduced(w, s, c, d))
+            }
         };
         let jj = self.j_half * j.hi + self.j_half * j.lo + jw;
         let sg = if j.to_f64().rem_euclid(2.0) == 1.0 {
@@ -1009,7 +1054,27 @@ impl Elliptic {
         (sg * s, sg * c, d, jj, kappa)
     }
 
-    /// `k' < 2^-100`: `(sn, cn / 2^kappa, dn / 2^kappa, kappa, J)` of `|w| <= K` from the
+    /// `sn, cn, dn (q K + v)` for `2^-54 <= k' < 2^-27`, `|v| <= K/2`: with `a = k'^2/4`,
+    /// `sn v = tanh v + a (tanh v - v sech^2 v)`, `cn v = sech v - a tanh v (sinh v - v sech v)`,
+    /// `dn v = sech v + a tanh v (sinh v + v sech v)` (DLMF 22.10.4-6; the corrections are at most
+    /// `k'/4` relative, the next terms `O(k'^2)`), then the shifts by `K` (DLMF 22.4.3).
+    fn corrected(&self, q: i64, v: Dd) -> (f64, f64, f64) {
+        let (th, sech, sh, _, k) = hyperbolic(v);
+        let (sech, sh, z) = (ldexp(sech, k), ldexp(sh, -k), v.to_f64());
+        let a = 0.25 * self.mc;
+        let s = th + a * (th - z * sech * sech);
+        let c = sech - a * th * (sh - z * sech);
+        let d = sech + a * th * (sh + z * sech);
+        let kp = self.kp;
+        match q.rem_euclid(4) {
+            0 => (s, c, d),
+            1 => (c / d, -kp * s / d, kp / d),
+            2 => (-s, -c, d),
+            _ => (-c / d, kp * s / d, kp / d),
+        }
+    }
+
+    /// `k' < 2^-54`: `(sn, cn / 2^kappa, dn / 2^kappa, kappa, J)` of `|w| <= K` from the
     /// hyperbolic functions of `v`, `w = q K + v`, `|v| <= K/2` (module doc; the corrections are
     /// `O(k')` relative).
     fn reduced_tiny(&self, q: i64, v: Dd, w: Dd) -> (f64, f64, f64, i32, Dd) {

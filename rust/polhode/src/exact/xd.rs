@@ -412,9 +412,87 @@ pub(crate) fn asinh_xd(y: Xd) -> Dd {
     (y + (Xd::new(1.0) + y * y).sqrt()).ln()
 }
 
+/// The exact value of `sum_k a_k b_k^2 (c_k - d_k)` for doubles, rounded to 106 bits, with its
+/// exact sign (zero only if the sum is zero): the products of the mantissas form an exact
+/// expansion (two-product splits), which repeated error-free passes (two-sum along the list,
+/// Ogita, Rump and Oishi 2005) distil until it no longer changes. Exact while the terms are
+/// within `2^1000` of each other (a smaller one is negligible, not lost to the sign).
+pub(crate) fn exact_sum_a_b2_diff(terms: &[(f64, f64, f64, f64)]) -> Xd {
+    let mut parts: Vec<(f64, i32)> = Vec::new();
+    for &(a, b, c, d) in terms {
+        let diff = Dd::sum(c, -d);
+        for x in [diff.hi, diff.lo] {
+            if x == 0.0 || a == 0.0 || b == 0.0 {
+                continue;
+            }
+            let (ma, ea) = frexp(a);
+            let (mb, eb) = frexp(b);
+            let (mx, ex) = frexp(x);
+            let mut comps = vec![1.0f64];
+            for m in [ma, mb, mb, mx] {
+                let mut next = Vec::with_capacity(2 * comps.len());
+                for c in comps {
+                    let p = Dd::prod(c, m);
+                    next.push(p.hi);
+                    if p.lo != 0.0 {
+                        next.push(p.lo);
+                    }
+                }
+                comps = next;
+            }
+            let e = ea + 2 * eb + ex;
+            parts.extend(comps.into_iter().map(|c| (c, e)));
+        }
+    }
+    let Some(emax) = parts.iter().map(|p| p.1).max() else {
+        return Xd::ZERO;
+    };
+    let mut v: Vec<f64> = parts
+        .iter()
+        .map(|&(c, e)| ldexp(c, e - emax))
+        .filter(|c| *c != 0.0)
+        .collect();
+    if v.is_empty() {
+        return Xd::ZERO;
+    }
+    for _ in 0..200 {
+        let mut changed = false;
+        for i in 1..v.len() {
+            let s = Dd::sum(v[i], v[i - 1]);
+            changed |= s.hi != v[i] || s.lo != v[i - 1];
+            v[i] = s.hi;
+            v[i - 1] = s.lo;
+        }
+        if !changed {
+            break;
+        }
+    }
+    let n = v.len();
+    let lo: f64 = v[..n - 1].iter().sum();
+    Xd::from_dd(Dd::sum(v[n - 1], lo)).ldexp(emax)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn exact_sums_see_through_cancellation() {
+        // 3 * 3^2 * (1 - 2) + 1 * 1^2 * (27 - 0) = 0 exactly; with the second moment one ulp
+        // off, 2^-48 exactly.
+        assert!(exact_sum_a_b2_diff(&[(3.0, 3.0, 1.0, 2.0), (1.0, 1.0, 27.0, 0.0)]).is_zero());
+        let x =
+            exact_sum_a_b2_diff(&[(3.0, 3.0, 1.0, 2.0), (1.0, 1.0, 27.0 + 2f64.powi(-48), 0.0)]);
+        assert_eq!(x.to_f64(), 2f64.powi(-48));
+        // I (1, 2, 3.125), w = (3, ., 1.6): 1 9 (1 - 2) + 3.125 1.6^2 (3.125 - 2) = 0 in reals,
+        // not in doubles (1.6 is not): the sign and size of what the doubles give.
+        let x = exact_sum_a_b2_diff(&[(1.0, 3.0, 1.0, 2.0), (3.125, 1.6, 3.125, 2.0)]);
+        assert!(!x.is_zero());
+        // Below the range of doubles: 1e-170 components.
+        let x = exact_sum_a_b2_diff(&[(3.0, 1e-170, 3.0, 5.0), (9.0, 1e-170, 9.0, 5.0)]);
+        let want = Xd::new(30.0) * Xd::new(1e-170) * Xd::new(1e-170);
+        assert!(((x - want) / want).abs().to_f64() < 1e-30);
+    }
 
     #[test]
     fn frexp_and_ldexp_are_exact() {
