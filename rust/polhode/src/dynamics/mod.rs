@@ -53,6 +53,4 @@ pub use splitting::{
     SplittingOrder,
 };
 pub use state::{Moments, State};
-pub use torque::{
-    BodyFixed, Function, Gravity, GravityGradient, Segment, SpaceFixed, Sum, Torque, Window,
-};
+pub use torque::*;
