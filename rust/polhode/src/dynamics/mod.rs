@@ -33,20 +33,22 @@
 pub mod dop853;
 mod driver;
 pub mod midpoint;
+mod monitor;
 pub mod rk4;
 pub mod splitting;
 mod state;
+mod stepper;
 mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
 pub use driver::{
-    integrate, integrate_batch, integrate_body, Dop853Options, Method, Monitor, Options, Stats,
-    Trajectory,
+    integrate, integrate_batch, integrate_body, Dop853Options, Method, Options, Stats, Trajectory,
 };
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,
 };
+pub use monitor::Monitor;
 pub use rk4::{rk4_step, rk4_step_omega, rk4_step_omega_torqued, rk4_step_torqued};
 pub use splitting::{
     splitting_step, splitting_step_omega, splitting_step_omega_torqued, splitting_step_torqued,
