@@ -14,6 +14,7 @@ use super::stepper::Stepper;
 use super::system::{pack, Field, Load, NoTorque, System};
 use super::torque::{Segment, Torque};
 use crate::error::{finite, positive};
+use crate::exact::FreeRotation;
 use crate::{Error, Result};
 
 /// An integration method and its parameters.
@@ -38,6 +39,9 @@ pub enum Method {
     },
     /// Adaptive Dormand-Prince 8(5,3) (see [`super::dop853`]).
     Dop853(Dop853Options),
+    /// The exact solution of the torque-free body ([`FreeRotation`]) evaluated at each output
+    /// time: no steps, torque-free only.
+    Exact,
 }
 
 /// Settings of the adaptive [`Method::Dop853`].
@@ -91,8 +95,8 @@ pub struct Options<'a> {
     pub torque: Option<&'a dyn Torque>,
     /// Largest number of steps (accepted and rejected), an error if exceeded (default `1e8`).
     pub max_steps: u64,
-    /// Progress record and cancel flag, looked at every [`Monitor::CHECK_EVERY`] steps
-    /// (default none).
+    /// Progress record and cancel flag, looked at every [`Monitor::CHECK_EVERY`] steps (every
+    /// 256 output times for [`Method::Exact`]; default none).
     pub monitor: Option<&'a Monitor>,
 }
 
@@ -111,12 +115,13 @@ impl Default for Options<'_> {
 /// The cost of an integration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
-    /// Steps taken (accepted steps for `Dop853`).
+    /// Steps taken (accepted steps for `Dop853`, none for `Exact`).
     pub steps: u64,
     /// Steps rejected by the error control (`Dop853` only).
     pub rejected_steps: u64,
     /// Evaluations of the vector field (for the splitting: of the torque only, the free
-    /// sub-flows being exact; for the midpoint rule: Newton iterations and torque evaluations).
+    /// sub-flows being exact; for the midpoint rule: Newton iterations and torque evaluations;
+    /// for `Exact`: evaluations of the closed form, one per output time).
     pub rhs_evaluations: u64,
 }
 
@@ -168,7 +173,7 @@ fn check_times(times: &[f64], t0: f64) -> Result<()> {
     Ok(())
 }
 
-fn check_method(method: &Method) -> Result<()> {
+fn check_method(method: &Method, options: &Options) -> Result<()> {
     match method {
         Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
             positive("dt", *dt)?;
@@ -189,6 +194,15 @@ fn check_method(method: &Method) -> Result<()> {
             }
             if let Some(h) = o.max_step {
                 positive("max_step", h)?;
+            }
+        }
+        Method::Exact => {
+            if options.torque.is_some() {
+                return Err(Error::InvalidArgument {
+                    name: "torque".into(),
+                    reason: "the exact solution is torque-free; use dop853 or another integrator."
+                        .into(),
+                });
             }
         }
     }
@@ -213,6 +227,33 @@ impl Collector {
     /// orientation is returned).
     #[inline]
     fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&Vector4<f64>>) -> Result<()> {
+        self.push_omega(t, w)?;
+        if let (Some(list), Some(q)) = (self.orientation.as_mut(), q) {
+            list.push(UnitQuaternion::new_unchecked(Quaternion::from(
+                q / q.norm(),
+            )));
+        }
+        Ok(())
+    }
+
+    /// The output at `t`: `w`, and the unit quaternion `q` as it is (kept only if the
+    /// orientation is returned).
+    #[inline]
+    fn push_unit(
+        &mut self,
+        t: f64,
+        w: &Vector3<f64>,
+        q: Option<&UnitQuaternion<f64>>,
+    ) -> Result<()> {
+        self.push_omega(t, w)?;
+        if let (Some(list), Some(q)) = (self.orientation.as_mut(), q) {
+            list.push(*q);
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn push_omega(&mut self, t: f64, w: &Vector3<f64>) -> Result<()> {
         for i in 0..3 {
             if !w[i].is_finite() {
                 return Err(Error::NonFinite {
@@ -222,11 +263,6 @@ impl Collector {
             }
         }
         self.omega.push(*w);
-        if let (Some(list), Some(q)) = (self.orientation.as_mut(), q) {
-            list.push(UnitQuaternion::new_unchecked(Quaternion::from(
-                q / q.norm(),
-            )));
-        }
         Ok(())
     }
 }
@@ -291,7 +327,7 @@ fn fixed_loop<S: Stepper>(
     }
     let mut y = stepper.vars(state0);
     stepper.start(&y);
-    let progress = Progress::new(options.monitor, options.t0);
+    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
     let mut prev = options.t0;
     segments(options.t0, times, &breaks, |t, k| {
         let n = substeps(prev, t, dt);
@@ -412,7 +448,7 @@ fn run_dop853<S: System<N>, const N: usize>(
             }
         }
     };
-    let progress = Progress::new(options.monitor, options.t0);
+    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
     let watched = Watched {
         sys,
         progress: &progress,
@@ -436,6 +472,37 @@ fn run_dop853<S: System<N>, const N: usize>(
     }
     progress.finish(t);
     Ok(stats)
+}
+
+/// Output times between two looks at the monitor for [`Method::Exact`].
+const EXACT_CHECK_EVERY: u32 = 256;
+
+/// [`Method::Exact`]: the closed form at each output time, reporting to the monitor as the
+/// integrators do.
+fn run_exact(
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let free = FreeRotation::new(*body.moments(), state0.omega, state0.orientation)?;
+    let progress = Progress::new(options.monitor, options.t0, EXACT_CHECK_EVERY);
+    for &t in times {
+        progress.spend(1, || t)?;
+        if options.with_orientation {
+            let (w, q) = free.state(t - options.t0);
+            col.push_unit(t, &w, Some(&q))?;
+        } else {
+            col.push_unit(t, &free.omega(t - options.t0), None)?;
+        }
+    }
+    progress.finish(times.last().copied().unwrap_or(options.t0));
+    Ok(Stats {
+        steps: 0,
+        rejected_steps: 0,
+        rhs_evaluations: times.len() as u64,
+    })
 }
 
 /// Runs `method` on the body under `load`, with or without the orientation: the one place
@@ -470,6 +537,7 @@ fn run<L: Load, const ORIENTATION: bool>(
                 run_dop853(&field, state0.omega, times, options, &o, col)
             }
         }
+        Method::Exact => run_exact(body, state0, times, options, col),
     }
 }
 
@@ -478,14 +546,16 @@ fn run<L: Load, const ORIENTATION: bool>(
 ///
 /// `moments`: principal moments (any order, finite, `> 0`). `times`: output times (named `t`
 /// in errors), finite, non-decreasing and `>= t0` (an output time equal to `t0` returns the
-/// initial state). The fixed-step methods take `n = ceil((t_k - t_{k-1}) / dt)` equal substeps
-/// between successive output times, so every output time is hit exactly and no step exceeds
-/// `dt`; `Dop853` steps freely and interpolates (7th-order dense output). Quaternions are
-/// returned normalised.
+/// initial state, to round-off for `Exact`). The fixed-step methods take
+/// `n = ceil((t_k - t_{k-1}) / dt)` equal substeps between successive output times, so every
+/// output time is hit exactly and no step exceeds `dt`; `Dop853` steps freely and interpolates
+/// (7th-order dense output); `Exact` evaluates the closed form at each output time.
+/// Quaternions are returned normalised.
 ///
 /// Errors: invalid arguments (non-finite state, non-positive moment, `dt`, `rtol`, `atol`,
-/// decreasing times), too many steps, a failed Newton iteration, a torque error, a solution
-/// that is no longer finite, or [`Error::Interrupted`] once `options.monitor` is cancelled.
+/// decreasing times, a torque for `Exact`), too many steps, a failed Newton iteration, a torque
+/// error, a solution that is no longer finite, or [`Error::Interrupted`] once
+/// `options.monitor` is cancelled.
 pub fn integrate(
     method: &Method,
     moments: &Vector3<f64>,
@@ -508,7 +578,7 @@ pub fn integrate_body(
     if let Some(monitor) = options.monitor {
         monitor.check()?;
     }
-    check_method(method)?;
+    check_method(method, options)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
     if options.max_steps == 0 {

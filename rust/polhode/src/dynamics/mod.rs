@@ -12,7 +12,9 @@
 //!   `L_space` conserved to round-off, energy error bounded;
 //! - [`midpoint`]: implicit midpoint rule; `T` and `|L|` conserved to round-off;
 //! - [`rk4`]: classic explicit Runge-Kutta, order 4;
-//! - [`dop853`]: adaptive Dormand-Prince 8(5,3) with dense output.
+//! - [`dop853`]: adaptive Dormand-Prince 8(5,3) with dense output;
+//! - [`Method::Exact`] (driver only): the closed form of the torque-free body,
+//!   [`crate::exact::FreeRotation`], at each output time.
 //!
 //! ```
 //! use nalgebra::Vector3;

@@ -9,7 +9,8 @@ use crate::{Error, Result};
 /// Progress and cancellation shared with running integrations (see [`super::Options::monitor`]).
 ///
 /// The integration loops look at it only every [`Monitor::CHECK_EVERY`] steps (or evaluations
-/// of the vector field for `Dop853`), so that watching costs nothing measurable: they add the
+/// of the vector field for `Dop853`, or 256 output times for `Exact`), so that watching costs
+/// nothing measurable: they add the
 /// time integrated since their last look to [`Monitor::elapsed`], and stop with
 /// [`Error::Interrupted`] once [`Monitor::cancel`] has been called (from any thread). A
 /// finished run adds the rest of its span and counts itself in [`Monitor::finished`]. One
@@ -144,16 +145,19 @@ impl Monitor {
 /// already added to [`Monitor::elapsed`]. Cells, so that a vector field (`&self`) can tick it.
 pub(crate) struct Progress<'a> {
     monitor: Option<&'a Monitor>,
+    /// Steps (or evaluations, or outputs) between two looks.
+    every: u32,
     countdown: Cell<u32>,
     reported: Cell<f64>,
 }
 
 impl<'a> Progress<'a> {
-    /// A run from `t0` reporting to `monitor` (if any).
-    pub(crate) fn new(monitor: Option<&'a Monitor>, t0: f64) -> Self {
+    /// A run from `t0` looking at `monitor` (if any) every `every` steps.
+    pub(crate) fn new(monitor: Option<&'a Monitor>, t0: f64, every: u32) -> Self {
         Self {
             monitor,
-            countdown: Cell::new(Monitor::CHECK_EVERY),
+            every,
+            countdown: Cell::new(every),
             reported: Cell::new(t0),
         }
     }
@@ -180,7 +184,7 @@ impl<'a> Progress<'a> {
     #[cold]
     #[inline(never)]
     fn look(&self, t: f64) -> Result<()> {
-        self.countdown.set(Monitor::CHECK_EVERY);
+        self.countdown.set(self.every);
         match self.monitor {
             None => Ok(()),
             Some(monitor) => {
