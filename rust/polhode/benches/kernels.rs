@@ -1,7 +1,8 @@
 //! Criterion benchmarks of the kernels, without Python in the way:
 //! `cargo bench -p polhode --bench kernels`.
 //!
-//! One step of each integrator (with and without orientation), one exact evaluation and one
+//! One step of each integrator (with and without orientation), the driver `integrate` per step
+//! of each method (with and without orientation and torque), one exact evaluation and one
 //! construction of the exact solution, one eigensolve (single and per tensor in a batch), and
 //! the point-mass assembly per point.
 
@@ -10,8 +11,9 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use polhode::dynamics::{
-    dop853_step, midpoint_step, rk4_step, rk4_step_omega, splitting_step, splitting_step_omega,
-    Moments, SplittingOrder, State,
+    dop853_step, integrate, midpoint_step, rk4_step, rk4_step_omega, splitting_step,
+    splitting_step_omega, BodyFixed, Dop853Options, Method, Moments, Options, SplittingOrder,
+    State, Torque,
 };
 use polhode::exact::FreeRotation;
 use polhode::MassProperties;
@@ -45,6 +47,54 @@ fn steps(c: &mut Criterion) {
     group.bench_function("dop853 orientation (one fixed step)", |b| {
         b.iter(|| dop853_step(&body, black_box(&state), h))
     });
+    group.finish();
+}
+
+/// The driver over 10^4 steps of `dt = 1e-3` (for `Dop853`, over the same span), per step.
+fn driver(c: &mut Criterion) {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let state = State::new(Vector3::new(0.01, 1.0, 0.01), UnitQuaternion::identity());
+    let torque = BodyFixed::new(Vector3::new(0.01, -0.02, 0.03)).unwrap();
+    let steps = 10_000;
+    let dt = 1e-3;
+    let times = [steps as f64 * dt];
+    let methods = [
+        (
+            "splitting4",
+            Method::Splitting {
+                dt,
+                order: SplittingOrder::Four,
+            },
+        ),
+        ("midpoint", Method::Midpoint { dt }),
+        ("rk4", Method::Rk4 { dt }),
+        ("dop853", Method::Dop853(Dop853Options::default())),
+    ];
+    let mut group = c.benchmark_group("integrate");
+    group.throughput(Throughput::Elements(steps));
+    for (name, method) in methods {
+        for with_orientation in [false, true] {
+            for torqued in [false, true] {
+                let options = Options {
+                    with_orientation,
+                    torque: torqued.then_some(&torque as &dyn Torque),
+                    ..Options::default()
+                };
+                let label = format!(
+                    "{name} {} {}",
+                    if with_orientation {
+                        "orientation"
+                    } else {
+                        "omega"
+                    },
+                    if torqued { "torqued" } else { "free" }
+                );
+                group.bench_function(label, |b| {
+                    b.iter(|| integrate(&method, &moments, black_box(&state), &times, &options))
+                });
+            }
+        }
+    }
     group.finish();
 }
 
@@ -115,5 +165,5 @@ fn points(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(kernels, steps, exact, eigen, points);
+criterion_group!(kernels, steps, driver, exact, eigen, points);
 criterion_main!(kernels);

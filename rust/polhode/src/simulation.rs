@@ -503,7 +503,7 @@ pub fn simulate(
     }
     // The settings shared by every body, checked once here (and so even for N = 0).
     crate::dynamics::check_times(t, run.t0)?;
-    crate::dynamics::check_method(&run.method)?;
+    crate::dynamics::check_method(&run.method, &Options::default())?;
     if run.max_steps == 0 {
         return Err(Error::NonPositive {
             name: "max_steps".into(),

@@ -1782,3 +1782,163 @@ fn monitor_progress_and_cancel() {
     let looked = 3.0 * f64::from(Monitor::CHECK_EVERY) * dt;
     assert!((monitor.elapsed() - looked).abs() <= 1e-9 * looked);
 }
+
+/// `Method::Exact` is the closed form at each output time, bit for bit, from `t0`.
+#[test]
+fn exact_method_is_the_closed_form_at_the_output_times() {
+    // A unit quaternion whose norm is exactly 1, so that the driver's renormalisation of the
+    // initial state changes no bit.
+    let q0 = UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(0.5, 0.5, -0.5, 0.5));
+    assert_eq!(q0.coords.norm(), 1.0);
+    let bodies = [
+        // Asymmetric, about the largest axis; near the separatrix; symmetric; a steady spin.
+        (Vector3::new(1.0, 2.0, 3.0), Vector3::new(0.1, 0.2, 1.0)),
+        (Vector3::new(3.0, 5.0, 9.0), Vector3::new(1e-3, 0.4, 1e-3)),
+        (Vector3::new(2.0, 2.0, 1.0), Vector3::new(0.3, -0.2, 1.5)),
+        (Vector3::new(1.0, 2.0, 3.0), Vector3::new(0.0, 0.7, 0.0)),
+    ];
+    let t0 = 1.25;
+    // Repeated times, t0 itself, and more than 256 of them (the monitor's looks).
+    let mut times: Vec<f64> = [1.25, 1.25, 1.5, 2.0, 10.0, 10.0, 123.4, 1e4]
+        .into_iter()
+        .chain((0..1000).map(|k| 2.0 + 0.37 * f64::from(k)))
+        .collect();
+    times.sort_by(f64::total_cmp);
+    for (moments, omega0) in bodies {
+        let free = polhode::exact::FreeRotation::new(moments, omega0, q0).unwrap();
+        let state0 = State::new(omega0, q0);
+        for with_orientation in [true, false] {
+            let options = Options {
+                t0,
+                with_orientation,
+                ..Options::default()
+            };
+            let sol = run(Method::Exact, moments, &state0, &times, &options);
+            assert_eq!(
+                sol.stats,
+                Stats {
+                    steps: 0,
+                    rejected_steps: 0,
+                    rhs_evaluations: times.len() as u64,
+                }
+            );
+            assert_eq!(sol.omega.len(), times.len());
+            for (k, &t) in times.iter().enumerate() {
+                if with_orientation {
+                    let (w, q) = free.state(t - t0);
+                    assert_eq!(sol.omega[k], w, "{moments:?} t = {t}");
+                    assert_eq!(
+                        sol.orientation.as_ref().unwrap()[k],
+                        q,
+                        "{moments:?} t = {t}"
+                    );
+                } else {
+                    assert_eq!(sol.omega[k], free.omega(t - t0), "{moments:?} t = {t}");
+                }
+            }
+            assert_eq!(sol.orientation.is_some(), with_orientation);
+        }
+    }
+}
+
+/// `Method::Exact` is torque-free: a torque is an invalid argument, not silently ignored.
+#[test]
+fn exact_method_rejects_a_torque() {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let state0 = State::from_omega(Vector3::new(0.1, 1.0, 0.1));
+    let torque = BodyFixed::new(Vector3::new(0.0, 0.0, 1e-3)).unwrap();
+    for with_orientation in [true, false] {
+        let options = Options {
+            torque: Some(&torque),
+            with_orientation,
+            ..Options::default()
+        };
+        match integrate(&Method::Exact, &moments, &state0, &[1.0], &options).unwrap_err() {
+            Error::InvalidArgument { name, reason } => {
+                assert_eq!(name, "torque");
+                assert!(reason.contains("torque-free"), "{reason}");
+            }
+            other => panic!("unexpected {other}"),
+        }
+    }
+    // The other arguments are checked as for the integrators.
+    let options = Options::default();
+    let error = integrate(&Method::Exact, &moments, &state0, &[1.0, 0.5], &options).unwrap_err();
+    assert!(matches!(error, Error::InvalidArgument { name, .. } if name == "t"));
+}
+
+/// `Method::Exact` reports to the monitor as the integrators do: a look every 256 output
+/// times (where a cancelled monitor stops it), its span once finished.
+#[test]
+fn exact_method_reports_to_the_monitor() {
+    let moments = Vector3::new(1.0, 2.0, 3.0);
+    let state0 = State::from_omega(Vector3::new(0.1, 1.0, 0.1));
+    let t0 = 0.5;
+    let times: Vec<f64> = (1..=1000).map(|k| t0 + f64::from(k)).collect();
+    let looks = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let monitor = Monitor::with_on_look({
+        let looks = std::sync::Arc::clone(&looks);
+        move |_| {
+            looks.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+    });
+    let options = Options {
+        t0,
+        monitor: Some(&monitor),
+        ..Options::default()
+    };
+    let sol = run(Method::Exact, moments, &state0, &times, &options);
+    let plain = Options {
+        t0,
+        ..Options::default()
+    };
+    assert_eq!(sol, run(Method::Exact, moments, &state0, &times, &plain));
+    // Looks at the outputs 256, 512 and 768 (times t0 + 256, ...), then the whole span.
+    assert_eq!(looks.load(std::sync::atomic::Ordering::Relaxed), 3);
+    assert_eq!(monitor.elapsed(), 1000.0);
+    assert_eq!(monitor.finished(), 1);
+    // Cancelled before the run: stops at once.
+    monitor.cancel();
+    let result = integrate(&Method::Exact, &moments, &state0, &times, &options);
+    assert_eq!(result.unwrap_err(), Error::Interrupted);
+    assert_eq!(monitor.finished(), 1);
+    // Cancelled by the function called at the second look: stops there, the time up to it
+    // reported.
+    let looks = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let monitor = Monitor::with_on_look({
+        let looks = std::sync::Arc::clone(&looks);
+        move |monitor| {
+            if looks.fetch_add(1, std::sync::atomic::Ordering::Relaxed) == 1 {
+                monitor.cancel();
+            }
+        }
+    });
+    let options = Options {
+        t0,
+        monitor: Some(&monitor),
+        ..Options::default()
+    };
+    let result = integrate(&Method::Exact, &moments, &state0, &times, &options);
+    assert_eq!(result.unwrap_err(), Error::Interrupted);
+    assert_eq!(looks.load(std::sync::atomic::Ordering::Relaxed), 2);
+    assert_eq!(monitor.elapsed(), 512.0);
+    assert_eq!(monitor.finished(), 0);
+    // In a batch, each body reports its span.
+    let n = 3;
+    let monitor = Monitor::new();
+    let options = Options {
+        t0,
+        monitor: Some(&monitor),
+        ..Options::default()
+    };
+    let batch = integrate_batch(
+        &Method::Exact,
+        &vec![moments; n],
+        &vec![state0; n],
+        &times,
+        &options,
+    );
+    assert_eq!(batch.unwrap().len(), n);
+    assert_eq!(monitor.elapsed(), 3000.0);
+    assert_eq!(monitor.finished(), n as u64);
+}

@@ -10,8 +10,8 @@
 use nalgebra::{SVector, Vector3};
 
 use super::state::{Moments, State};
-use super::system::{normalize7, pack, unpack, Free, System, Torqued};
-use super::torque::{Segment, Torque};
+use super::system::{pack, unit_state, Field, NoTorque, System};
+use super::torque::{require_orientation_free, Segment, Torque};
 use super::Stats;
 use crate::{Error, Result};
 
@@ -208,8 +208,8 @@ fn initial_step<S: System<N>, const N: usize>(
 /// Integrates from `(t0, y0)` to `t_end` and calls `out(k, y(times[k]))` for each output time
 /// (`times` non-decreasing, within `[t0, t_end]`); returns the final state and the next step
 /// size. `[t0, t_end]` must be free of discontinuities of the torque: the system is evaluated
-/// for the segment `[t0, t_end]`. `renormalize(y, f)` is applied after each accepted step to the new state and its
-/// derivative.
+/// for the segment `[t0, t_end]`. `renormalize(y, f)` is applied after each accepted step to
+/// the new state and its derivative.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve<S: System<N>, const N: usize>(
     sys: &S,
@@ -357,7 +357,11 @@ fn fixed_step<S: System<N>, const N: usize>(
 /// velocity alone.
 #[must_use]
 pub fn dop853_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f64> {
-    match fixed_step(&Free { body }, 0.0, omega, h) {
+    let free = Field {
+        body,
+        load: NoTorque,
+    };
+    match fixed_step(&free, 0.0, omega, h) {
         Ok(w) => w,
         Err(_) => unreachable!("the torque-free field cannot fail"),
     }
@@ -367,12 +371,14 @@ pub fn dop853_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector
 /// velocity and orientation (quaternion renormalised).
 #[must_use]
 pub fn dop853_step(body: &Moments, state: &State, h: f64) -> State {
-    let mut y = match fixed_step(&Free { body }, 0.0, &pack(state), h) {
-        Ok(y) => y,
-        Err(_) => unreachable!("the torque-free field cannot fail"),
+    let free = Field {
+        body,
+        load: NoTorque,
     };
-    normalize7(&mut y);
-    unpack(&y)
+    match fixed_step(&free, 0.0, &pack(state), h) {
+        Ok(y) => unit_state(y),
+        Err(_) => unreachable!("the torque-free field cannot fail"),
+    }
 }
 
 /// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity alone under `torque`
@@ -386,8 +392,8 @@ pub fn dop853_step_omega_torqued<T: Torque + ?Sized>(
     omega: &Vector3<f64>,
     h: f64,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_orientation_free(torque)?;
-    fixed_step(&Torqued { body, torque }, t, omega, h)
+    require_orientation_free(torque)?;
+    fixed_step(&Field { body, load: torque }, t, omega, h)
 }
 
 /// One 8th-order Dormand-Prince step (fixed `h`) of the angular velocity and orientation under
@@ -400,9 +406,8 @@ pub fn dop853_step_torqued<T: Torque + ?Sized>(
     state: &State,
     h: f64,
 ) -> Result<State> {
-    let mut y = fixed_step(&Torqued { body, torque }, t, &pack(state), h)?;
-    normalize7(&mut y);
-    Ok(unpack(&y))
+    let y = fixed_step(&Field { body, load: torque }, t, &pack(state), h)?;
+    Ok(unit_state(y))
 }
 
 // Generated from scipy/integrate/_ivp/dop853_coefficients.py (Hairer's dop853.f, 2004).

@@ -1,26 +1,25 @@
-//! Integration over a list of output times, for one body or a batch of bodies.
-
-use std::cell::Cell;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+//! Integration over a list of output times, for one body or a batch of bodies: the methods,
+//! their settings and results, and the loops that run them.
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 use rayon::prelude::*;
 
 use super::dop853::{self, Settings, Tolerance};
-use super::midpoint::{cayley_update, free_midpoint, torqued_midpoint};
-use super::rk4::{rk4, rk4_free_orientation};
-use super::splitting::{free_flow, torqued_step, SplittingOrder};
+use super::midpoint::Midpoint;
+use super::monitor::{Monitor, Progress};
+use super::rk4::Rk4;
+use super::splitting::{Splitting, SplittingOrder};
 use super::state::{Moments, State};
-use super::system::{Free, System, Torqued};
+use super::stepper::Stepper;
+use super::system::{pack, Field, Load, NoTorque, System};
 use super::torque::{Segment, Torque};
 use crate::error::{finite, positive, Short};
+use crate::exact::FreeRotation;
 use crate::{Error, Result};
 
 /// An integration method and its parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
-    /// The closed form (torque-free only).
-    Exact,
     /// Lie-Poisson splitting (see [`super::splitting`]) with fixed step `dt`.
     Splitting {
         /// Largest step.
@@ -40,6 +39,9 @@ pub enum Method {
     },
     /// Adaptive Dormand-Prince 8(5,3) (see [`super::dop853`]).
     Dop853(Dop853Options),
+    /// The exact solution of the torque-free body ([`FreeRotation`]) evaluated at each output
+    /// time: no steps, torque-free only.
+    Exact,
 }
 
 /// Settings of the adaptive [`Method::Dop853`].
@@ -80,221 +82,6 @@ impl Dop853Options {
     }
 }
 
-/// Progress and cancellation shared with running integrations (see [`Options::monitor`]).
-///
-/// The integration loops look at it only every [`Monitor::CHECK_EVERY`] steps (or evaluations
-/// of the vector field for `Dop853`), so that watching costs nothing measurable: they add the
-/// time integrated since their last look to [`Monitor::elapsed`], and stop with
-/// [`Error::Interrupted`] once [`Monitor::cancel`] has been called (from any thread). A
-/// finished run adds the rest of its span and counts itself in [`Monitor::finished`]. One
-/// monitor may watch many runs (a batch): `elapsed` is then their sum. A monitor built
-/// [`Monitor::with_on_look`] also calls a function of yours at each look, on the thread of the
-/// run (to show progress, or to decide to cancel).
-///
-/// ```
-/// use nalgebra::Vector3;
-/// use polhode::dynamics::{integrate, Method, Monitor, Options, State};
-/// use polhode::Error;
-///
-/// // A 2 kg m^2 / 3 / 4 body spinning at 1 rad/s, for 100 s in steps of 10 ms.
-/// let moments = Vector3::new(2.0, 3.0, 4.0);
-/// let state0 = State::from_omega(Vector3::new(0.1, 1.0, 0.1));
-/// let method = Method::Rk4 { dt: 0.01 };
-/// let monitor = Monitor::new();
-/// let options = Options { monitor: Some(&monitor), ..Options::default() };
-/// integrate(&method, &moments, &state0, &[100.0], &options).unwrap();
-/// assert!((monitor.elapsed() - 100.0).abs() < 1e-9 && monitor.finished() == 1);
-///
-/// monitor.cancel();
-/// let result = integrate(&method, &moments, &state0, &[100.0], &options);
-/// assert_eq!(result.unwrap_err(), Error::Interrupted);
-/// ```
-#[derive(Default)]
-pub struct Monitor {
-    cancelled: AtomicBool,
-    /// The `f64` bits of the time integrated so far, summed over the runs watched.
-    elapsed: AtomicU64,
-    finished: AtomicU64,
-    on_look: Option<OnLook>,
-}
-
-/// A function called at each look (see [`Monitor::with_on_look`]).
-type OnLook = Box<dyn Fn(&Monitor) + Send + Sync>;
-
-impl std::fmt::Debug for Monitor {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Monitor")
-            .field("cancelled", &self.is_cancelled())
-            .field("elapsed", &self.elapsed())
-            .field("finished", &self.finished())
-            .field("on_look", &self.on_look.is_some())
-            .finish()
-    }
-}
-
-impl Monitor {
-    /// Steps (or `Dop853` evaluations of the vector field) between two looks at the monitor.
-    pub const CHECK_EVERY: u32 = 4096;
-
-    /// A monitor with nothing recorded and not cancelled.
-    #[must_use]
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// A monitor that calls `on_look(&monitor)` at each look of a run, on the run's thread
-    /// (so from several threads at once in a batch), after recording its progress and before
-    /// checking for cancellation: `on_look` may call [`Monitor::cancel`]. It should be quick,
-    /// or rate-limit itself (a few thousand steps can take microseconds).
-    #[must_use]
-    pub fn with_on_look(on_look: impl Fn(&Monitor) + Send + Sync + 'static) -> Self {
-        Self {
-            on_look: Some(Box::new(on_look)),
-            ..Self::default()
-        }
-    }
-
-    /// A look, as a run takes one every [`Monitor::CHECK_EVERY`] steps: calls the function
-    /// given to [`Monitor::with_on_look`], then [`Monitor::check`]. For loops outside this
-    /// crate that report to a monitor (with [`Monitor::add_elapsed`]).
-    pub fn look(&self) -> Result<()> {
-        if let Some(on_look) = &self.on_look {
-            on_look(self);
-        }
-        self.check()
-    }
-
-    /// Asks every run watched to stop at its next look, with [`Error::Interrupted`]; runs
-    /// not started yet stop at once.
-    pub fn cancel(&self) {
-        self.cancelled.store(true, Ordering::Relaxed);
-    }
-
-    /// Whether [`Monitor::cancel`] was called.
-    #[must_use]
-    pub fn is_cancelled(&self) -> bool {
-        self.cancelled.load(Ordering::Relaxed)
-    }
-
-    /// `Err(Error::Interrupted)` if cancelled.
-    pub fn check(&self) -> Result<()> {
-        if self.is_cancelled() {
-            Err(Error::Interrupted)
-        } else {
-            Ok(())
-        }
-    }
-
-    /// The time integrated so far, summed over the runs watched (for N runs from `t0` to
-    /// `t_end`, `N (t_end - t0)` once all have finished).
-    #[must_use]
-    pub fn elapsed(&self) -> f64 {
-        f64::from_bits(self.elapsed.load(Ordering::Relaxed))
-    }
-
-    /// Adds `time` (the time a run advanced since it last reported) to [`Monitor::elapsed`].
-    pub fn add_elapsed(&self, time: f64) {
-        // A compare-and-swap loop: there is no atomic f64 addition. Called rarely.
-        let _ = self
-            .elapsed
-            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |bits| {
-                Some((f64::from_bits(bits) + time).to_bits())
-            });
-    }
-
-    /// The number of runs that finished successfully.
-    #[must_use]
-    pub fn finished(&self) -> u64 {
-        self.finished.load(Ordering::Relaxed)
-    }
-
-    /// Counts one more run finished.
-    pub fn add_finished(&self) {
-        self.finished.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-/// One run's reports to its monitor: a countdown of steps to the next look, and the time
-/// already added to [`Monitor::elapsed`]. Cells, so that a vector field (`&self`) can tick it.
-struct Progress<'a> {
-    monitor: Option<&'a Monitor>,
-    countdown: Cell<u32>,
-    reported: Cell<f64>,
-}
-
-impl<'a> Progress<'a> {
-    fn new(options: &Options<'a>) -> Self {
-        Self {
-            monitor: options.monitor,
-            countdown: Cell::new(Monitor::CHECK_EVERY),
-            reported: Cell::new(options.t0),
-        }
-    }
-
-    /// Steps (or evaluations) left before the next look.
-    #[inline(always)]
-    fn budget(&self) -> u32 {
-        self.countdown.get()
-    }
-
-    /// `done <= budget()` steps (or evaluations) done; `t()`, the time reached, is only
-    /// called at a look.
-    #[inline(always)]
-    fn spend(&self, done: u32, t: impl FnOnce() -> f64) -> Result<()> {
-        let left = self.countdown.get() - done;
-        self.countdown.set(left);
-        if left == 0 {
-            self.look(t())
-        } else {
-            Ok(())
-        }
-    }
-
-    #[cold]
-    #[inline(never)]
-    fn look(&self, t: f64) -> Result<()> {
-        self.countdown.set(Monitor::CHECK_EVERY);
-        match self.monitor {
-            None => Ok(()),
-            Some(monitor) => {
-                self.report(monitor, t);
-                monitor.look()
-            }
-        }
-    }
-
-    fn report(&self, monitor: &Monitor, t: f64) {
-        let reported = self.reported.get();
-        if t > reported {
-            monitor.add_elapsed(t - reported);
-            self.reported.set(t);
-        }
-    }
-
-    /// The run reached `t_end` successfully.
-    fn finish(&self, t_end: f64) {
-        if let Some(monitor) = self.monitor {
-            self.report(monitor, t_end);
-            monitor.add_finished();
-        }
-    }
-}
-
-/// A vector field that ticks a [`Progress`] at each evaluation (for `Dop853`, whose loop
-/// lives in [`super::dop853`]); it returns exactly what `sys` returns.
-struct Watched<'s, 'p, S> {
-    sys: &'s S,
-    progress: &'s Progress<'p>,
-}
-
-impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
-    #[inline]
-    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
-        self.progress.spend(1, || t)?;
-        self.sys.rhs(segment, t, y)
-    }
-}
-
 /// Settings common to all methods.
 #[derive(Clone, Copy)]
 pub struct Options<'a> {
@@ -308,8 +95,8 @@ pub struct Options<'a> {
     pub torque: Option<&'a dyn Torque>,
     /// Largest number of steps (accepted and rejected), an error if exceeded (default `1e8`).
     pub max_steps: u64,
-    /// Progress record and cancel flag, looked at every [`Monitor::CHECK_EVERY`] steps
-    /// (default none).
+    /// Progress record and cancel flag, looked at every [`Monitor::CHECK_EVERY`] steps (every
+    /// 256 output times for [`Method::Exact`]; default none).
     pub monitor: Option<&'a Monitor>,
 }
 
@@ -328,12 +115,13 @@ impl Default for Options<'_> {
 /// The cost of an integration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
-    /// Steps taken (accepted steps for `Dop853`).
+    /// Steps taken (accepted steps for `Dop853`, none for `Exact`).
     pub steps: u64,
     /// Steps rejected by the error control (`Dop853` only).
     pub rejected_steps: u64,
     /// Evaluations of the vector field (for the splitting: of the torque only, the free
-    /// sub-flows being exact; for the midpoint rule: Newton iterations and torque evaluations).
+    /// sub-flows being exact; for the midpoint rule: Newton iterations and torque evaluations;
+    /// for `Exact`: evaluations of the closed form, one per output time).
     pub rhs_evaluations: u64,
 }
 
@@ -387,9 +175,8 @@ pub(crate) fn check_times(times: &[f64], t0: f64) -> Result<()> {
     Ok(())
 }
 
-pub(crate) fn check_method(method: &Method) -> Result<()> {
+pub(crate) fn check_method(method: &Method, options: &Options) -> Result<()> {
     match method {
-        Method::Exact => {}
         Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
             positive("dt", *dt)?;
         }
@@ -411,6 +198,15 @@ pub(crate) fn check_method(method: &Method) -> Result<()> {
                 positive("max_step", h)?;
             }
         }
+        Method::Exact => {
+            if options.torque.is_some() {
+                return Err(Error::InvalidArgument {
+                    name: "torque".into(),
+                    reason: "the exact solution is torque-free; use dop853 or another integrator."
+                        .into(),
+                });
+            }
+        }
     }
     Ok(())
 }
@@ -429,16 +225,11 @@ impl Collector {
         }
     }
 
+    /// The output at `t`: `w`, and the raw quaternion `q` normalised (kept only if the
+    /// orientation is returned).
     #[inline]
     fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&Vector4<f64>>) -> Result<()> {
-        for i in 0..3 {
-            if !w[i].is_finite() {
-                return Err(Error::NonFinite {
-                    name: format!("omega[{i}] at t = {} (the solution blew up)", Short(t)),
-                    value: w[i],
-                });
-            }
-        }
+        self.push_omega(t, w)?;
         if let (Some(att), Some(q)) = (self.orientation.as_mut(), q) {
             let unit = q / q.norm();
             if !unit.iter().all(|c| c.is_finite()) {
@@ -457,6 +248,35 @@ impl Collector {
                 });
             }
             att.push(UnitQuaternion::new_unchecked(Quaternion::from(unit)));
+        }
+        Ok(())
+    }
+
+    /// The output at `t`: `w`, and the unit quaternion `q` as it is (kept only if the
+    /// orientation is returned).
+    #[inline]
+    fn push_unit(
+        &mut self,
+        t: f64,
+        w: &Vector3<f64>,
+        q: Option<&UnitQuaternion<f64>>,
+    ) -> Result<()> {
+        self.push_omega(t, w)?;
+        if let (Some(list), Some(q)) = (self.orientation.as_mut(), q) {
+            list.push(*q);
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn push_omega(&mut self, t: f64, w: &Vector3<f64>) -> Result<()> {
+        for i in 0..3 {
+            if !w[i].is_finite() {
+                return Err(Error::NonFinite {
+                    name: format!("omega[{i}] at t = {} (the solution blew up)", Short(t)),
+                    value: w[i],
+                });
+            }
         }
         self.omega.push(*w);
         Ok(())
@@ -493,17 +313,17 @@ fn breaks_of(options: &Options) -> Vec<f64> {
     breaks
 }
 
-/// The fixed-step loop: `n = ceil(interval / dt)` equal substeps between successive output
-/// times (and torque discontinuities); `step(segment, t, y, h)` steps from `t` over `h`, in the
-/// interval `segment` between two of those times (free of discontinuities).
-fn fixed_loop<Y>(
-    options: &Options,
-    times: &[f64],
+/// The fixed-step loop of `stepper`: `n = ceil(interval / dt)` equal substeps between
+/// successive output times (and torque discontinuities), so that each step lies in an interval
+/// between two of those times, free of discontinuities.
+fn fixed_loop<S: Stepper>(
+    mut stepper: S,
     dt: f64,
-    y: &mut Y,
-    mut step: impl FnMut(&Segment, f64, &mut Y, f64) -> Result<()>,
-    mut out: impl FnMut(usize, &Y) -> Result<()>,
-) -> Result<u64> {
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    col: &mut Collector,
+) -> Result<Stats> {
     let breaks = breaks_of(options);
     let mut total = 0.0;
     let mut prev = options.t0;
@@ -523,7 +343,9 @@ fn fixed_loop<Y>(
             ),
         });
     }
-    let progress = Progress::new(options);
+    let mut y = stepper.vars(state0);
+    stepper.start(&y);
+    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
     let mut prev = options.t0;
     segments(options.t0, times, &breaks, |t, k| {
         let n = substeps(prev, t, dt);
@@ -534,222 +356,32 @@ fn fixed_loop<Y>(
             let (n, mut j) = (n as u64, 0);
             while j < n {
                 let end = n.min(j + u64::from(progress.budget()));
+                // On a local copy, which the compiler keeps in registers.
+                let mut local = y;
                 for i in j..end {
-                    step(&segment, prev + i as f64 * h, y, h)?;
+                    let t = prev + i as f64 * h;
+                    stepper
+                        .step(&segment, t, &mut local, h)
+                        .map_err(|e| stepper.at_time(e, t))?;
+                    stepper.restore(&mut local);
                 }
+                y = local;
                 progress.spend((end - j) as u32, || prev + end as f64 * h)?;
                 j = end;
             }
         }
         prev = t;
         match k {
-            Some(k) => out(k, y),
+            Some(k) => col.push(times[k], &stepper.omega(&y), Some(&y.1)),
             None => Ok(()),
         }
     })?;
     progress.finish(prev);
-    Ok(total as u64)
-}
-
-/// Steps between two restorations of `|m|` in the torque-free splitting without orientation.
-const ANCHOR_EVERY: u32 = 16;
-
-fn run_splitting<const ATT: bool>(
-    body: &Moments,
-    state0: &State,
-    times: &[f64],
-    options: &Options,
-    dt: f64,
-    order: SplittingOrder,
-    col: &mut Collector,
-) -> Result<Stats> {
-    let mut y = (
-        body.angular_momentum(&state0.omega),
-        state0.orientation.coords,
-    );
-    let mut evals = 0;
-    let inverse = *body.inverse();
-    let out = |k: usize, y: &(Vector3<f64>, Vector4<f64>)| {
-        col.push(times[k], &y.0.component_mul(&inverse), ATT.then_some(&y.1))
-    };
-    // Torque-free with orientation: L_space = R(q) m is constant; recomputing m = R(q)^T L_space
-    // after each step (exact in exact arithmetic) keeps the round-off of the axis rotations from
-    // accumulating into a drift of L_space (~2e-18 a step otherwise, a bias not a random walk).
-    let l_space = state0.orientation * y.0;
-    // Without the orientation, |m| (an exact invariant of every sub-flow) is restored to its
-    // initial value every few steps: the rotations are unbiased, but their round-off is a
-    // random walk of |m| (up to 3e-13 over 1e6 steps of order 6 otherwise). This removes
-    // round-off only; it is not the rescaling of a method that does not conserve |m|. Skipped
-    // where |m|^2 would lose its relative precision (under- or overflow).
-    let g2 = y.0.norm_squared();
-    let anchor = !ATT && (1e-280..=1e280).contains(&g2);
-    let mut count = 0u32;
-    let steps = match options.torque {
-        None => fixed_loop(
-            options,
-            times,
-            dt,
-            &mut y,
-            |_, _, (m, q), h| {
-                free_flow::<ATT>(body, m, q, h, order);
-                if ATT {
-                    *q /= q.norm();
-                    *m = UnitQuaternion::new_unchecked(Quaternion::from(*q))
-                        .inverse_transform_vector(&l_space);
-                } else if anchor {
-                    count = count.wrapping_add(1);
-                    if count.is_multiple_of(ANCHOR_EVERY) {
-                        *m *= (g2 / m.norm_squared()).sqrt();
-                    }
-                }
-                Ok(())
-            },
-            out,
-        )?,
-        Some(torque) => fixed_loop(
-            options,
-            times,
-            dt,
-            &mut y,
-            |segment, t, (m, q), h| {
-                torqued_step::<dyn Torque, ATT>(
-                    body, torque, segment, t, m, q, h, order, &mut evals,
-                )?;
-                if ATT {
-                    *q /= q.norm();
-                }
-                Ok(())
-            },
-            out,
-        )?,
-    };
+    let steps = total as u64;
     Ok(Stats {
         steps,
         rejected_steps: 0,
-        rhs_evaluations: evals,
-    })
-}
-
-fn run_midpoint<const ATT: bool>(
-    body: &Moments,
-    state0: &State,
-    times: &[f64],
-    options: &Options,
-    dt: f64,
-    col: &mut Collector,
-) -> Result<Stats> {
-    let mut y = (state0.omega, state0.orientation.coords);
-    let mut evals = 0;
-    let out =
-        |k: usize, y: &(Vector3<f64>, Vector4<f64>)| col.push(times[k], &y.0, ATT.then_some(&y.1));
-    let steps = fixed_loop(
-        options,
-        times,
-        dt,
-        &mut y,
-        |segment, t, (w, q), h| {
-            let wm = match options.torque {
-                None => free_midpoint(body, w, h, &mut evals).map_err(|e| at_time(e, t))?,
-                Some(torque) => torqued_midpoint::<dyn Torque, ATT>(
-                    body, torque, segment, t, w, q, h, &mut evals,
-                )?,
-            };
-            if ATT {
-                *q = cayley_update(q, &wm, h);
-            }
-            *w = wm * 2.0 - *w;
-            Ok(())
-        },
-        out,
-    )?;
-    Ok(Stats {
-        steps,
-        rejected_steps: 0,
-        rhs_evaluations: evals,
-    })
-}
-
-/// Adds the time to a Newton failure of the torque-free midpoint (which does not know it).
-fn at_time(e: Error, t: f64) -> Error {
-    match e {
-        Error::NoConvergence { method, reason } => Error::NoConvergence {
-            method,
-            reason: format!("{reason} (step from t = {t})."),
-        },
-        other => other,
-    }
-}
-
-fn run_rk4<S: System<N>, const N: usize>(
-    sys: &S,
-    y0: SVector<f64, N>,
-    times: &[f64],
-    options: &Options,
-    dt: f64,
-    col: &mut Collector,
-) -> Result<Stats> {
-    let mut y = y0;
-    let steps = fixed_loop(
-        options,
-        times,
-        dt,
-        &mut y,
-        |segment, t, y, h| {
-            *y = rk4(sys, segment, t, y, h)?;
-            if N == 7 {
-                let n = (y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
-                for i in 3..N {
-                    y[i] /= n;
-                }
-            }
-            Ok(())
-        },
-        |k, y| output(col, times[k], y),
-    )?;
-    Ok(Stats {
-        steps,
-        rejected_steps: 0,
-        rhs_evaluations: 4 * steps,
-    })
-}
-
-/// Steps between two renormalisations of the quaternion in the torque-free RK4.
-const RENORMALISE_EVERY: u32 = 64;
-
-fn run_rk4_free_orientation(
-    body: &Moments,
-    state0: &State,
-    times: &[f64],
-    options: &Options,
-    dt: f64,
-    col: &mut Collector,
-) -> Result<Stats> {
-    let mut y = (state0.omega, state0.orientation.coords);
-    // Torque-free, the quaternion's equation is linear in q and does not act back on omega:
-    // RK4 maps c q to c q' exactly, so scaling q changes nothing but the round-off. Its norm
-    // drifts by O(h^5) per step; renormalising every so many steps (and at each output) keeps
-    // it near 1 without a square root and a division in every step.
-    let mut since = 0_u32;
-    let steps = fixed_loop(
-        options,
-        times,
-        dt,
-        &mut y,
-        |_, _, (w, q), h| {
-            rk4_free_orientation(body, w, q, h);
-            since += 1;
-            if since == RENORMALISE_EVERY {
-                *q /= q.norm();
-                since = 0;
-            }
-            Ok(())
-        },
-        |k, (w, q)| col.push(times[k], w, Some(q)),
-    )?;
-    Ok(Stats {
-        steps,
-        rejected_steps: 0,
-        rhs_evaluations: 4 * steps,
+        rhs_evaluations: stepper.evaluations(steps),
     })
 }
 
@@ -764,6 +396,22 @@ fn output<const N: usize>(col: &mut Collector, t: f64, y: &SVector<f64, N>) -> R
     }
 }
 
+/// A vector field that ticks a [`Progress`] at each evaluation (for `Dop853`, whose loop
+/// lives in [`super::dop853`]); it returns exactly what `sys` returns.
+struct Watched<'s, 'p, S> {
+    sys: &'s S,
+    progress: &'s Progress<'p>,
+}
+
+impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
+    #[inline]
+    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
+        self.progress.spend(1, || t)?;
+        self.sys.rhs(segment, t, y)
+    }
+}
+
+/// The adaptive loop of `Dop853` on the system `sys` from `y0`.
 fn run_dop853<S: System<N>, const N: usize>(
     sys: &S,
     y0: SVector<f64, N>,
@@ -818,7 +466,7 @@ fn run_dop853<S: System<N>, const N: usize>(
             }
         }
     };
-    let progress = Progress::new(options);
+    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
     let watched = Watched {
         sys,
         progress: &progress,
@@ -844,19 +492,89 @@ fn run_dop853<S: System<N>, const N: usize>(
     Ok(stats)
 }
 
+/// Output times between two looks at the monitor for [`Method::Exact`].
+const EXACT_CHECK_EVERY: u32 = 256;
+
+/// [`Method::Exact`]: the closed form at each output time, reporting to the monitor as the
+/// integrators do.
+fn run_exact(
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let free = FreeRotation::new(*body.moments(), state0.omega, state0.orientation)?;
+    let progress = Progress::new(options.monitor, options.t0, EXACT_CHECK_EVERY);
+    for &t in times {
+        progress.spend(1, || t)?;
+        // The fallible forms: a time past double precision's reach is an error naming `t`.
+        if options.with_orientation {
+            let (w, q) = free.try_state(t - options.t0)?;
+            col.push_unit(t, &w, Some(&q))?;
+        } else {
+            col.push_unit(t, &free.try_omega(t - options.t0)?, None)?;
+        }
+    }
+    progress.finish(times.last().copied().unwrap_or(options.t0));
+    Ok(Stats {
+        steps: 0,
+        rejected_steps: 0,
+        rhs_evaluations: times.len() as u64,
+    })
+}
+
+/// Runs `method` on the body under `load`, with or without the orientation: the one place
+/// that maps a [`Method`] to its stepper (or loop).
+fn run<L: Load, const ORIENTATION: bool>(
+    method: &Method,
+    body: &Moments,
+    load: L,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    col: &mut Collector,
+) -> Result<Stats> {
+    match *method {
+        Method::Splitting { dt, order } => {
+            let stepper = Splitting::<L, ORIENTATION>::new(body, load, order);
+            fixed_loop(stepper, dt, state0, times, options, col)
+        }
+        Method::Midpoint { dt } => {
+            let stepper = Midpoint::<L, ORIENTATION>::new(body, load);
+            fixed_loop(stepper, dt, state0, times, options, col)
+        }
+        Method::Rk4 { dt } => {
+            let stepper = Rk4::<L, ORIENTATION>::new(body, load);
+            fixed_loop(stepper, dt, state0, times, options, col)
+        }
+        Method::Dop853(o) => {
+            let field = Field { body, load };
+            if ORIENTATION {
+                run_dop853(&field, pack(state0), times, options, &o, col)
+            } else {
+                run_dop853(&field, state0.omega, times, options, &o, col)
+            }
+        }
+        Method::Exact => run_exact(body, state0, times, options, col),
+    }
+}
+
 /// Integrates Euler's equations (with the orientation if `options.with_orientation`) from
 /// `state0` at `options.t0`, returning the states at each of `times`.
 ///
 /// `moments`: principal moments (any order, finite, `> 0`). `times`: output times (named `t`
 /// in errors), finite, non-decreasing and `>= t0` (an output time equal to `t0` returns the
-/// initial state). The fixed-step methods take `n = ceil((t_k - t_{k-1}) / dt)` equal substeps
-/// between successive output times, so every output time is hit exactly and no step exceeds
-/// `dt`; `Dop853` steps freely and interpolates (7th-order dense output). Quaternions are
-/// returned normalised.
+/// initial state, to round-off for `Exact`). The fixed-step methods take
+/// `n = ceil((t_k - t_{k-1}) / dt)` equal substeps between successive output times, so every
+/// output time is hit exactly and no step exceeds `dt`; `Dop853` steps freely and interpolates
+/// (7th-order dense output); `Exact` evaluates the closed form at each output time.
+/// Quaternions are returned normalised.
 ///
 /// Errors: invalid arguments (non-finite state, non-positive moment, `dt`, `rtol`, `atol`,
-/// decreasing times), too many steps, a failed Newton iteration, a torque error, a solution
-/// that is no longer finite, or [`Error::Interrupted`] once `options.monitor` is cancelled.
+/// decreasing times, a torque for `Exact`), too many steps, a failed Newton iteration, a torque
+/// error, a solution that is no longer finite, or [`Error::Interrupted`] once
+/// `options.monitor` is cancelled.
 pub fn integrate(
     method: &Method,
     moments: &Vector3<f64>,
@@ -879,7 +597,7 @@ pub fn integrate_body(
     if let Some(monitor) = options.monitor {
         monitor.check()?;
     }
-    check_method(method)?;
+    check_method(method, options)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
     if options.max_steps == 0 {
@@ -902,82 +620,20 @@ pub fn integrate_body(
             state0.orientation.coords / norm,
         )),
     };
-    let att =
+    // The orientation is integrated if returned or if the torque depends on it.
+    let orientation =
         options.with_orientation || options.torque.is_some_and(|t| t.depends_on_orientation());
-    let mut col = Collector::new(times.len(), options.with_orientation);
-    let y3 = state0.omega;
-    let y7 = super::system::pack(state0);
-    if let Method::Exact = method {
-        if options.torque.is_some() {
-            return Err(Error::InvalidArgument {
-                name: "torque".into(),
-                reason: "the exact solution is torque-free; use dop853 or another integrator."
-                    .into(),
-            });
-        }
-        let free =
-            crate::exact::FreeRotation::new(*body.moments(), state0.omega, state0.orientation)?;
-        let progress = Progress::new(options);
-        for (k, &t) in times.iter().enumerate() {
-            if k % 256 == 255 {
-                progress.look(t)?;
-            }
-            if options.with_orientation {
-                let (w, q) = free.try_state(t - options.t0)?;
-                col.push(t, &w, Some(&q.coords))?;
-            } else {
-                col.push(t, &free.try_omega(t - options.t0)?, None)?;
-            }
-        }
-        progress.finish(times.last().copied().unwrap_or(options.t0));
-        return Ok(Trajectory {
-            omega: col.omega,
-            orientation: col.orientation,
-            stats: Stats {
-                steps: 0,
-                rejected_steps: 0,
-                rhs_evaluations: times.len() as u64,
-            },
-        });
-    }
-    let stats = match (*method, att) {
-        (Method::Exact, _) => unreachable!("returned above"),
-        (Method::Splitting { dt, order }, true) => {
-            run_splitting::<true>(body, state0, times, options, dt, order, &mut col)
-        }
-        (Method::Splitting { dt, order }, false) => {
-            run_splitting::<false>(body, state0, times, options, dt, order, &mut col)
-        }
-        (Method::Midpoint { dt }, true) => {
-            run_midpoint::<true>(body, state0, times, options, dt, &mut col)
-        }
-        (Method::Midpoint { dt }, false) => {
-            run_midpoint::<false>(body, state0, times, options, dt, &mut col)
-        }
-        (Method::Rk4 { dt }, a) => match (options.torque, a) {
-            (None, false) => run_rk4(&Free { body }, y3, times, options, dt, &mut col),
-            (None, true) => run_rk4_free_orientation(body, state0, times, options, dt, &mut col),
-            (Some(torque), false) => {
-                run_rk4(&Torqued { body, torque }, y3, times, options, dt, &mut col)
-            }
-            (Some(torque), true) => {
-                run_rk4(&Torqued { body, torque }, y7, times, options, dt, &mut col)
-            }
-        },
-        (Method::Dop853(o), a) => match (options.torque, a) {
-            (None, false) => run_dop853(&Free { body }, y3, times, options, &o, &mut col),
-            (None, true) => run_dop853(&Free { body }, y7, times, options, &o, &mut col),
-            (Some(torque), false) => {
-                run_dop853(&Torqued { body, torque }, y3, times, options, &o, &mut col)
-            }
-            (Some(torque), true) => {
-                run_dop853(&Torqued { body, torque }, y7, times, options, &o, &mut col)
-            }
-        },
+    let mut collector = Collector::new(times.len(), options.with_orientation);
+    let col = &mut collector;
+    let stats = match (options.torque, orientation) {
+        (None, false) => run::<_, false>(method, body, NoTorque, state0, times, options, col),
+        (None, true) => run::<_, true>(method, body, NoTorque, state0, times, options, col),
+        (Some(torque), false) => run::<_, false>(method, body, torque, state0, times, options, col),
+        (Some(torque), true) => run::<_, true>(method, body, torque, state0, times, options, col),
     }?;
     Ok(Trajectory {
-        omega: col.omega,
-        orientation: col.orientation,
+        omega: collector.omega,
+        orientation: collector.orientation,
         stats,
     })
 }

@@ -16,7 +16,9 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use super::state::{Moments, State};
-use super::torque::{Segment, Torque};
+use super::stepper::{Stepper, Vars};
+use super::system::{Load, NoTorque};
+use super::torque::{require_orientation_free, Segment, Torque};
 use crate::{Error, Result};
 
 const MAX_ITERATIONS: usize = 50;
@@ -67,9 +69,11 @@ fn converged(d: f64, prev: f64, scale: f64) -> bool {
     d <= 8.0 * f64::EPSILON * scale || (d >= prev && d <= 1e3 * f64::EPSILON * scale)
 }
 
-/// The torque-free midpoint value `w_m` solving `w_m = w + h/2 f(w_m)`.
-#[inline]
-pub(crate) fn free_midpoint(
+/// The torque-free midpoint value `w_m` solving `w_m = w + h/2 f(w_m)`. Always inlined: called
+/// with a copy of `w0` just stored to memory, it would load it back in overlapping pieces,
+/// which stalls the loads (store forwarding fails).
+#[inline(always)]
+fn free_midpoint(
     body: &Moments,
     w0: &Vector3<f64>,
     h: f64,
@@ -102,7 +106,7 @@ pub(crate) fn free_midpoint(
 
 /// `q (x) cay(h w_m)` with the Cayley transform written above, renormalised.
 #[inline]
-pub(crate) fn cayley_update(q: &Vector4<f64>, wm: &Vector3<f64>, h: f64) -> Vector4<f64> {
+fn cayley_update(q: &Vector4<f64>, wm: &Vector3<f64>, h: f64) -> Vector4<f64> {
     let a = wm * (0.25 * h);
     let a2 = a.norm_squared();
     let inv = 1.0 / (1.0 + a2);
@@ -154,7 +158,7 @@ fn torque_term<T: Torque + ?Sized, const ATT: bool>(
 /// The midpoint value `w_m` under a torque, from `(w0, q)` at time `t`, for a step lying in
 /// `segment`.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
+fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
     body: &Moments,
     torque: &T,
     segment: &Segment,
@@ -218,26 +222,103 @@ pub(crate) fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
     ))
 }
 
+/// Adds the time to a Newton failure of the torque-free midpoint (which does not know it).
+fn at_time(e: Error, t: f64) -> Error {
+    match e {
+        Error::NoConvergence { method, reason } => Error::NoConvergence {
+            method,
+            reason: format!("{reason} (step from t = {t})."),
+        },
+        other => other,
+    }
+}
+
+/// The implicit midpoint rule under `L`, with or without the orientation.
+pub(crate) struct Midpoint<'a, L, const ORIENTATION: bool> {
+    body: &'a Moments,
+    load: L,
+    /// Newton iterations and torque evaluations.
+    evals: u64,
+}
+
+impl<'a, L: Load, const ORIENTATION: bool> Midpoint<'a, L, ORIENTATION> {
+    pub(crate) fn new(body: &'a Moments, load: L) -> Self {
+        Self {
+            body,
+            load,
+            evals: 0,
+        }
+    }
+}
+
+impl<L: Load, const ORIENTATION: bool> Stepper for Midpoint<'_, L, ORIENTATION> {
+    #[inline(always)]
+    fn step(&mut self, segment: &Segment, t: f64, y: &mut Vars, h: f64) -> Result<()> {
+        let (w, q) = *y;
+        let wm = match self.load.torque() {
+            None => free_midpoint(self.body, &w, h, &mut self.evals)?,
+            Some(torque) => torqued_midpoint::<_, ORIENTATION>(
+                self.body,
+                torque,
+                segment,
+                t,
+                &w,
+                &q,
+                h,
+                &mut self.evals,
+            )?,
+        };
+        if ORIENTATION {
+            y.1 = cayley_update(&q, &wm, h);
+        }
+        y.0 = wm * 2.0 - w;
+        Ok(())
+    }
+
+    fn at_time(&self, error: Error, t: f64) -> Error {
+        match self.load.torque() {
+            None => at_time(error, t),
+            Some(_) => error,
+        }
+    }
+
+    fn evaluations(&self, _steps: u64) -> u64 {
+        self.evals
+    }
+}
+
+/// One implicit midpoint step of `state` from `t` under `load`.
+#[inline]
+fn step<L: Load, const ORIENTATION: bool>(
+    body: &Moments,
+    load: L,
+    t: f64,
+    state: &State,
+    h: f64,
+) -> Result<State> {
+    let mut stepper = Midpoint::<L, ORIENTATION>::new(body, load);
+    let mut y = stepper.vars(state);
+    stepper.step(&Segment::of_step(t, h), t, &mut y, h)?;
+    Ok(State {
+        omega: y.0,
+        orientation: UnitQuaternion::new_unchecked(Quaternion::from(y.1)),
+    })
+}
+
 /// One torque-free implicit midpoint step of the angular velocity alone.
 pub fn midpoint_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Result<Vector3<f64>> {
-    let wm = free_midpoint(body, omega, h, &mut 0)?;
-    Ok(wm * 2.0 - omega)
+    Ok(step::<_, false>(body, NoTorque, 0.0, &State::from_omega(*omega), h)?.omega)
 }
 
 /// One torque-free implicit midpoint step of the angular velocity and orientation.
 pub fn midpoint_step(body: &Moments, state: &State, h: f64) -> Result<State> {
-    let wm = free_midpoint(body, &state.omega, h, &mut 0)?;
-    let q = cayley_update(&state.orientation.coords, &wm, h);
-    Ok(State {
-        omega: wm * 2.0 - state.omega,
-        orientation: UnitQuaternion::new_unchecked(Quaternion::from(q)),
-    })
+    step::<_, true>(body, NoTorque, 0.0, state, h)
 }
 
 /// One implicit midpoint step of the angular velocity alone under `torque`, from time `t`. The
-/// torque is evaluated with the identity orientation: an orientation-dependent torque is an error.
-/// The step is taken as free of the torque's discontinuities: a switched torque is in the state
-/// it has at its midpoint (see [`Torque::try_torque_body_in`]).
+/// torque is evaluated with the identity orientation: an orientation-dependent torque is an
+/// error. The step is taken as free of the torque's discontinuities: a switched torque is in
+/// the state it has at its midpoint (see [`Torque::try_torque_body_in`]).
 pub fn midpoint_step_omega_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -245,15 +326,12 @@ pub fn midpoint_step_omega_torqued<T: Torque + ?Sized>(
     omega: &Vector3<f64>,
     h: f64,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_orientation_free(torque)?;
-    let q = Vector4::new(0.0, 0.0, 0.0, 1.0);
-    let segment = Segment::of_step(t, h);
-    let wm = torqued_midpoint::<T, false>(body, torque, &segment, t, omega, &q, h, &mut 0)?;
-    Ok(wm * 2.0 - omega)
+    require_orientation_free(torque)?;
+    Ok(step::<_, false>(body, torque, t, &State::from_omega(*omega), h)?.omega)
 }
 
-/// One implicit midpoint step of the angular velocity and orientation under `torque`, from `t` (a
-/// step free of the torque's discontinuities, as in [`midpoint_step_omega_torqued`]).
+/// One implicit midpoint step of the angular velocity and orientation under `torque`, from `t`
+/// (a step free of the torque's discontinuities, as in [`midpoint_step_omega_torqued`]).
 pub fn midpoint_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -261,12 +339,5 @@ pub fn midpoint_step_torqued<T: Torque + ?Sized>(
     state: &State,
     h: f64,
 ) -> Result<State> {
-    let q = state.orientation.coords;
-    let segment = Segment::of_step(t, h);
-    let wm = torqued_midpoint::<T, true>(body, torque, &segment, t, &state.omega, &q, h, &mut 0)?;
-    let q = cayley_update(&q, &wm, h);
-    Ok(State {
-        omega: wm * 2.0 - state.omega,
-        orientation: UnitQuaternion::new_unchecked(Quaternion::from(q)),
-    })
+    step::<_, true>(body, torque, t, state, h)
 }

@@ -12,7 +12,9 @@
 //!   `L_space` conserved to round-off, energy error bounded;
 //! - [`midpoint`]: implicit midpoint rule; `T` and `|L|` conserved to round-off;
 //! - [`rk4`]: classic explicit Runge-Kutta, order 4;
-//! - [`dop853`]: adaptive Dormand-Prince 8(5,3) with dense output.
+//! - [`dop853`]: adaptive Dormand-Prince 8(5,3) with dense output;
+//! - [`Method::Exact`] (driver only): the closed form of the torque-free body,
+//!   [`crate::exact::FreeRotation`], at each output time.
 //!
 //! ```
 //! use nalgebra::Vector3;
@@ -33,28 +35,27 @@
 pub mod dop853;
 mod driver;
 pub mod midpoint;
+mod monitor;
 pub mod rk4;
 pub mod splitting;
 mod state;
+mod stepper;
 mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
 pub(crate) use driver::{check_method, check_times};
 pub use driver::{
-    integrate, integrate_batch, integrate_body, Dop853Options, Method, Monitor, Options, Stats,
-    Trajectory,
+    integrate, integrate_batch, integrate_body, Dop853Options, Method, Options, Stats, Trajectory,
 };
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,
 };
+pub use monitor::Monitor;
 pub use rk4::{rk4_step, rk4_step_omega, rk4_step_omega_torqued, rk4_step_torqued};
 pub use splitting::{
     splitting_step, splitting_step_omega, splitting_step_omega_torqued, splitting_step_torqued,
     SplittingOrder,
 };
 pub use state::{Moments, State};
-pub use torque::{
-    BodyContext, BodyFixed, Function, FunctionSpec, Gravity, GravityGradient, Segment, SpaceFixed,
-    Sum, Torque, TorqueFn, TorqueSpec, Window,
-};
+pub use torque::*;

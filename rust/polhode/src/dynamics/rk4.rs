@@ -3,57 +3,101 @@
 //!
 //! Explicit, order 4; neither `T` nor `|L|` is conserved (both drift by `O(h^4)` per unit time).
 
-use nalgebra::{SVector, Vector3, Vector4};
+use nalgebra::Vector3;
 
-use super::state::{quaternion_rate, Moments, State};
-use super::system::{normalize7, pack, unpack, Free, System, Torqued};
-use super::torque::{Segment, Torque};
+use super::state::{Moments, State};
+use super::stepper::{Stepper, Vars};
+use super::system::{join, rate, unit_state, Load, NoTorque};
+use super::torque::{require_orientation_free, Segment, Torque};
 use crate::Result;
 
-/// One RK4 step of `y' = f(t, y)`, lying in `segment`.
-#[inline]
-pub(crate) fn rk4<S: System<N>, const N: usize>(
-    sys: &S,
-    segment: &Segment,
-    t: f64,
-    y: &SVector<f64, N>,
-    h: f64,
-) -> Result<SVector<f64, N>> {
-    let half = 0.5 * h;
-    let k1 = sys.rhs(segment, t, y)?;
-    let k2 = sys.rhs(segment, t + half, &(y + k1 * half))?;
-    let k3 = sys.rhs(segment, t + half, &(y + k2 * half))?;
-    let k4 = sys.rhs(segment, t + h, &(y + k3 * h))?;
-    Ok(y + (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0))
+/// Steps between two renormalisations of the quaternion in a torque-free run.
+const RENORMALISE_EVERY: u32 = 64;
+
+/// RK4 on `(w, q)` under `L`, with or without the orientation.
+pub(crate) struct Rk4<'a, L, const ORIENTATION: bool> {
+    body: &'a Moments,
+    load: L,
+    /// Steps since the quaternion was last renormalised (torque-free runs).
+    since: u32,
 }
 
-/// One torque-free RK4 step of `(w, q)` on raw quaternion coordinates (not renormalised).
+impl<'a, L: Load, const ORIENTATION: bool> Rk4<'a, L, ORIENTATION> {
+    pub(crate) fn new(body: &'a Moments, load: L) -> Self {
+        Self {
+            body,
+            load,
+            since: 0,
+        }
+    }
+}
+
+impl<L: Load, const ORIENTATION: bool> Stepper for Rk4<'_, L, ORIENTATION> {
+    #[inline(always)]
+    fn step(&mut self, segment: &Segment, t: f64, (w, q): &mut Vars, h: f64) -> Result<()> {
+        let (body, load) = (self.body, self.load);
+        let half = 0.5 * h;
+        let (w0, q0) = (*w, *q);
+        let (a1, b1) = rate::<L, ORIENTATION>(body, load, segment, t, &w0, &q0)?;
+        let (w2, q2) = (w0 + a1 * half, q0 + b1 * half);
+        let (a2, b2) = rate::<L, ORIENTATION>(body, load, segment, t + half, &w2, &q2)?;
+        let (w3, q3) = (w0 + a2 * half, q0 + b2 * half);
+        let (a3, b3) = rate::<L, ORIENTATION>(body, load, segment, t + half, &w3, &q3)?;
+        let (w4, q4) = (w0 + a3 * h, q0 + b3 * h);
+        let (a4, b4) = rate::<L, ORIENTATION>(body, load, segment, t + h, &w4, &q4)?;
+        let sixth = h / 6.0;
+        *w = w0 + (a1 + (a2 + a3) * 2.0 + a4) * sixth;
+        if ORIENTATION {
+            *q = q0 + (b1 + (b2 + b3) * 2.0 + b4) * sixth;
+        }
+        Ok(())
+    }
+
+    /// Under a torque (which sees `q / |q|`), the quaternion is renormalised after each step
+    /// (`|q|^2` summed in index order). Torque-free, its equation is linear in `q` and does not
+    /// act back on `w`: RK4 maps `c q` to `c q'` exactly, so scaling `q` changes nothing but
+    /// the round-off. Its norm drifts by `O(h^5)` per step; renormalising every so many steps
+    /// (and at each output) keeps it near 1 without a square root and a division in every step.
+    #[inline(always)]
+    fn restore(&mut self, (_, q): &mut Vars) {
+        if ORIENTATION {
+            if self.load.torque().is_some() {
+                *q /= (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+            } else {
+                self.since += 1;
+                if self.since == RENORMALISE_EVERY {
+                    *q /= q.norm();
+                    self.since = 0;
+                }
+            }
+        }
+    }
+
+    fn evaluations(&self, steps: u64) -> u64 {
+        4 * steps
+    }
+}
+
+/// One RK4 step of `state` from `t` under `load` (it cannot fail without a torque).
 #[inline]
-pub(crate) fn rk4_free_orientation(
+fn step<L: Load, const ORIENTATION: bool>(
     body: &Moments,
-    w: &mut Vector3<f64>,
-    q: &mut Vector4<f64>,
+    load: L,
+    t: f64,
+    state: &State,
     h: f64,
-) {
-    let half = 0.5 * h;
-    let (w0, q0) = (*w, *q);
-    let (a1, b1) = (body.euler_rhs(&w0), quaternion_rate(&q0, &w0));
-    let (w2, q2) = (w0 + a1 * half, q0 + b1 * half);
-    let (a2, b2) = (body.euler_rhs(&w2), quaternion_rate(&q2, &w2));
-    let (w3, q3) = (w0 + a2 * half, q0 + b2 * half);
-    let (a3, b3) = (body.euler_rhs(&w3), quaternion_rate(&q3, &w3));
-    let (w4, q4) = (w0 + a3 * h, q0 + b3 * h);
-    let (a4, b4) = (body.euler_rhs(&w4), quaternion_rate(&q4, &w4));
-    let sixth = h / 6.0;
-    *w = w0 + (a1 + (a2 + a3) * 2.0 + a4) * sixth;
-    *q = q0 + (b1 + (b2 + b3) * 2.0 + b4) * sixth;
+) -> Result<Vars> {
+    let mut stepper = Rk4::<L, ORIENTATION>::new(body, load);
+    let mut y = stepper.vars(state);
+    stepper.step(&Segment::of_step(t, h), t, &mut y, h)?;
+    Ok(y)
 }
 
 /// One torque-free RK4 step of the angular velocity alone.
 #[must_use]
 pub fn rk4_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f64> {
-    match rk4(&Free { body }, &Segment::of_step(0.0, h), 0.0, omega, h) {
-        Ok(w) => w,
+    match step::<_, false>(body, NoTorque, 0.0, &State::from_omega(*omega), h) {
+        Ok((w, _)) => w,
         Err(_) => unreachable!("the torque-free field cannot fail"),
     }
 }
@@ -61,18 +105,10 @@ pub fn rk4_step_omega(body: &Moments, omega: &Vector3<f64>, h: f64) -> Vector3<f
 /// One torque-free RK4 step of the angular velocity and orientation (quaternion renormalised).
 #[must_use]
 pub fn rk4_step(body: &Moments, state: &State, h: f64) -> State {
-    let mut y = match rk4(
-        &Free { body },
-        &Segment::of_step(0.0, h),
-        0.0,
-        &pack(state),
-        h,
-    ) {
-        Ok(y) => y,
+    match step::<_, true>(body, NoTorque, 0.0, state, h) {
+        Ok((w, q)) => unit_state(join(&w, &q)),
         Err(_) => unreachable!("the torque-free field cannot fail"),
-    };
-    normalize7(&mut y);
-    unpack(&y)
+    }
 }
 
 /// One RK4 step of the angular velocity alone under `torque` from time `t`. The torque is
@@ -86,18 +122,12 @@ pub fn rk4_step_omega_torqued<T: Torque + ?Sized>(
     omega: &Vector3<f64>,
     h: f64,
 ) -> Result<Vector3<f64>> {
-    super::torque::require_orientation_free(torque)?;
-    rk4(
-        &Torqued { body, torque },
-        &Segment::of_step(t, h),
-        t,
-        omega,
-        h,
-    )
+    require_orientation_free(torque)?;
+    Ok(step::<_, false>(body, torque, t, &State::from_omega(*omega), h)?.0)
 }
 
-/// One RK4 step of the angular velocity and orientation under `torque` from time `t` (a step free
-/// of the torque's discontinuities, as in [`rk4_step_omega_torqued`]).
+/// One RK4 step of the angular velocity and orientation under `torque` from time `t` (a step
+/// free of the torque's discontinuities, as in [`rk4_step_omega_torqued`]).
 pub fn rk4_step_torqued<T: Torque + ?Sized>(
     body: &Moments,
     torque: &T,
@@ -105,8 +135,6 @@ pub fn rk4_step_torqued<T: Torque + ?Sized>(
     state: &State,
     h: f64,
 ) -> Result<State> {
-    let segment = Segment::of_step(t, h);
-    let mut y = rk4(&Torqued { body, torque }, &segment, t, &pack(state), h)?;
-    normalize7(&mut y);
-    Ok(unpack(&y))
+    let (w, q) = step::<_, true>(body, torque, t, state, h)?;
+    Ok(unit_state(join(&w, &q)))
 }
