@@ -316,6 +316,33 @@ fn tanh_sech(u: f64) -> (f64, f64) {
     (u.tanh(), sech)
 }
 
+/// `(tanh u, sech u / 2^k, k)` of a double-double `u`, from `e = exp(-|u|) = m 2^k`:
+/// `tanh u = (1 - e^2)/(1 + e^2)`, `sech u = 2 e / (1 + e^2)`, each rounded once.
+fn tanh_sech_dd(u: Dd) -> (f64, f64, i32) {
+    let a = u.abs();
+    let sg = if u.hi < 0.0 { -1.0 } else { 1.0 };
+    if a.hi < 1e-9 {
+        let a2 = a * a;
+        let th = a * (Dd::ONE - a2 / 3.0);
+        return (sg * th.to_f64(), (Dd::ONE - a2 * 0.5).to_f64(), 0);
+    }
+    let (m, k) = exp_dd(-a);
+    if m.hi == 0.0 {
+        return (sg, 0.0, 0);
+    }
+    if k < -56 {
+        // e^2 below 2^-110: 1 +- e^2 = 1 in double-double.
+        return (sg, (m * 2.0).to_f64(), k);
+    }
+    let e2 = (m * m).ldexp(2 * k);
+    let inv = Dd::ONE / (Dd::ONE + e2);
+    (
+        sg * ((Dd::ONE - e2) * inv).to_f64(),
+        (m * 2.0 * inv).to_f64(),
+        k,
+    )
+}
+
 /// The hyperbolic functions of a double-double `v`, from `e = exp(-|v|) = m 2^k`:
 /// `(tanh v, sech v / 2^k, sinh v 2^k, cosh v 2^k, k)`, each rounded once.
 fn hyperbolic(v: Dd) -> (f64, f64, f64, f64, i32) {
@@ -347,10 +374,11 @@ fn hyperbolic(v: Dd) -> (f64, f64, f64, f64, i32) {
         let e2 = (m * m).ldexp(2 * k);
         (Dd::ONE + e2, Dd::ONE - e2)
     };
-    let th = one_m / one_p;
-    let sech = m * 2.0 / one_p;
-    let sh = one_m / (m * 2.0);
-    let ch = one_p / (m * 2.0);
+    let (inv, inv_2m) = (Dd::ONE / one_p, Dd::ONE / (m * 2.0));
+    let th = one_m * inv;
+    let sech = m * 2.0 * inv;
+    let sh = one_m * inv_2m;
+    let ch = one_p * inv_2m;
     (
         sg * th.to_f64(),
         sech.to_f64(),
@@ -441,7 +469,7 @@ impl FreeRotation {
             });
         }
         let momentum = mx.iter().fold(Xd::ZERO, |a, x| a + *x * *x).sqrt().to_f64();
-        let (regime, motion, rate) = Self::classify(&moments, &omega0, &orientation0)?;
+        let (regime, motion, rate) = Self::classify(&moments, &omega0, &mx, &orientation0)?;
         let t_max = if rate.is_zero() {
             f64::INFINITY
         } else {
@@ -464,6 +492,7 @@ impl FreeRotation {
     fn classify(
         moments: &Vector3<f64>,
         omega0: &Vector3<f64>,
+        mx: &[Xd; 3],
         q0: &UnitQuaternion<f64>,
     ) -> Result<(Regime, Motion, Xd)> {
         let steady = || -> Result<(Motion, Xd)> {
@@ -493,7 +522,6 @@ impl FreeRotation {
             let (motion, rate) = steady()?;
             return Ok((Regime::Spherical, motion, rate));
         }
-        let mx = [0, 1, 2].map(|i| Xd::prod(moments[i], omega0[i]));
         if i0 == i1 || i1 == i2 || i0 == i2 {
             let s = if i0 == i1 {
                 2
@@ -869,7 +897,7 @@ impl FreeRotation {
             }
             Motion::Separatrix(s) => {
                 let u = s.c.u(t);
-                let (th, sech, _, _, kappa) = hyperbolic(u);
+                let (th, sech, kappa) = tanh_sech_dd(u);
                 s.c.omega([sech, th, sech], kappa)
             }
         })
@@ -903,7 +931,7 @@ impl FreeRotation {
             }
             Motion::Separatrix(s) => {
                 let u = s.c.u(t);
-                let (th, sech, _, _, kappa) = hyperbolic(u);
+                let (th, sech, kappa) = tanh_sech_dd(u);
                 s.c.state(t, [sech, th, sech], kappa, s.j(u))
             }
         })
@@ -1193,11 +1221,23 @@ mod tests {
         assert!((wrap(Dd::new(-4.0)) - (-4.0 + std::f64::consts::TAU)).abs() < 1e-15);
     }
 
+    const EPS: f64 = f64::EPSILON;
+
     #[test]
     fn hyperbolic_functions_keep_relative_accuracy() {
         // sech(700.5) = 1.196039223727958241282421466099...e-304 (mpmath, 40 digits).
         let (th, sech, sh, ch, k) = hyperbolic(Dd::new(700.5));
         assert_eq!(th, 1.0);
+        assert_eq!(tanh_sech_dd(Dd::new(700.5)), (th, sech, k));
+        for u in [1e-10, 0.3, -2.5, 40.0] {
+            let (a, b, c, _, k) = hyperbolic(Dd::new(u));
+            let (x, y, z) = tanh_sech_dd(Dd::new(u));
+            assert!(
+                (a - x).abs() <= EPS && (b - y).abs() <= EPS * b && z == k,
+                "{u}"
+            );
+            assert!((a - u.tanh()).abs() <= 2.0 * EPS && c.is_finite());
+        }
         let got = ldexp(sech, k);
         assert!((got - 1.196_039_223_727_958_3e-304).abs() <= 1.2e-304 * f64::EPSILON);
         assert!((ldexp(ch, -k) * got - 1.0).abs() <= 2.0 * f64::EPSILON);
