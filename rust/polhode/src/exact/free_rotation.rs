@@ -535,25 +535,29 @@ impl FreeRotation {
             let g = mx.iter().fold(Xd::ZERO, |acc, x| acc + *x * *x).sqrt();
             let nutation = g / it;
             let body = Xd::sum(is, -it).mul_f64(omega0[s]) / it;
-            let rho = nutation.e;
-            // m0 / G, each component rounded once.
-            let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
-            let body_rate = body.ldexp(-rho).to_dd();
-            let sym = Symmetric {
-                axis: s,
-                rho,
-                nutation_rate: nutation.ldexp(-rho).to_dd(),
-                m_dir,
-                body_rate: if body_rate.hi.abs() < f64::MIN_POSITIVE {
-                    Dd::ZERO
-                } else {
-                    body_rate
-                },
-            };
+            // Time in units of the faster of the two rates (the slower one, if below 2^-1022 of
+            // it, turns by nothing within the time bound and is dropped).
             let rate = if nutation.abs_lt(body) {
                 body.abs()
             } else {
                 nutation
+            };
+            let rho = rate.e;
+            // m0 / G, each component rounded once.
+            let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
+            let normal = |x: Dd| {
+                if x.hi.abs() < f64::MIN_POSITIVE {
+                    Dd::ZERO
+                } else {
+                    x
+                }
+            };
+            let sym = Symmetric {
+                axis: s,
+                rho,
+                nutation_rate: normal(nutation.ldexp(-rho).to_dd()),
+                m_dir,
+                body_rate: normal(body.ldexp(-rho).to_dd()),
             };
             return Ok((Regime::Symmetric { axis: s }, Motion::Symmetric(sym), rate));
         }
@@ -965,7 +969,7 @@ impl FreeRotation {
                 }
             }
         };
-        p.map(|x| x.to_f64()).filter(|x| x.is_finite())
+        p.map(|x| x.to_f64()).filter(|x| x.is_finite() && *x > 0.0)
     }
 
     /// Kinetic energy `T = omega . I omega / 2` (constant).

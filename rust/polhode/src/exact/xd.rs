@@ -346,16 +346,32 @@ impl Sd {
         ldexp(self.x, self.e)
     }
 
+    /// `op(x, y) 2^e`, redone on the mantissas if the double left its comfortable range (the
+    /// same bits whenever the direct result was a normal double: the scalings are exact).
+    fn apply(x: f64, y: f64, e: i32, op: impl Fn(f64, f64) -> f64, sign: i32) -> Sd {
+        let r = op(x, y);
+        let (_, k) = frexp(r);
+        if (r != 0.0 && (-SD_LIMIT..=SD_LIMIT).contains(&k))
+            || x == 0.0
+            || !r.is_finite() && !x.is_finite()
+        {
+            return Sd::fix(r, e);
+        }
+        let (mx, ex) = frexp(x);
+        let (my, ey) = frexp(y);
+        Sd::new(op(mx, my), e + ex + sign * ey)
+    }
+
     pub fn mul(self, b: Sd) -> Sd {
-        Sd::fix(self.x * b.x, self.e + b.e)
+        Sd::apply(self.x, b.x, self.e + b.e, |x, y| x * y, 1)
     }
 
     pub fn mul_f64(self, b: f64) -> Sd {
-        Sd::fix(self.x * b, self.e)
+        Sd::apply(self.x, b, self.e, |x, y| x * y, 1)
     }
 
     pub fn div(self, b: Sd) -> Sd {
-        Sd::fix(self.x / b.x, self.e - b.e)
+        Sd::apply(self.x, b.x, self.e - b.e, |x, y| x / y, -1)
     }
 
     /// Square root (of a value `>= 0`).
