@@ -101,6 +101,14 @@ EXTREME = [
     ("moments 1e-150..1e150", (1e-150, 1.0, 1e150), (0.3, 0.4, 0.5), None),
     ("moments 1e-150..1e150, fast", (1e-150, 1.0, 1e150), (1e75, 0.4, 1e-75), None),
     ("moments 1e150..1e-150, fast", (1e150, 1e-150, 1.0), (1e-75, 1e75, 0.4), None),
+    # k' ~ 1 (near-circular functions), L within 1e-47 of the smallest axis: the transverse
+    # components set the quaternion through psi (a random search found u0 1e-8 off here)
+    (
+        "moments 1e-12..1e33, near the smallest axis",
+        (3.6795152100972124e33, 6.58682710771732e-05, 9.354964852355093e-13),
+        (-1.281415334939086e-53, -7.407558310025045e-20, -3.1379448139871975e39),
+        "about_smallest_axis",
+    ),
 ]
 SYMMETRIC_TINY = [
     ("oblate at 1e-170", (2.0, 2.0, 3.0), (1e-170, 2e-170, 3e-170)),

@@ -729,13 +729,14 @@ impl FreeRotation {
             let j_half = cel(kp_dd, nu_dd + 1.0, Dd::ZERO, Dd::ONE) * 2.0;
             let jc_quarter = cel(kp_dd, nu_dd + 1.0, Dd::ONE, Dd::ZERO);
             // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
-            // reflected about K when cn < 0. In the outer half (c^2 < k'), u0 = +-(K - v) with
-            // y = sd v = |c| / k' (cn(K - v) = k' sd v): v = y R_F(1 - c^2, 1, 1 + k^2 y^2)
-            // (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so that a small cn keeps its digits.
+            // reflected about K when cn < 0. In the outer half (c^2 < k'/(1 + k') = cn^2(K/2)),
+            // u0 = +-(K - v) with y = sd v = |c| / k' (cn(K - v) = k' sd v):
+            // v = y R_F(1 - c^2, 1, 1 + k^2 y^2) (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so
+            // that a small cn keeps its digits.
             let c0 = m1.div(b1).to_f64().clamp(-1.0, 1.0);
             let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
             let kp = kp_dd.to_f64();
-            if c0 * c0 < kp {
+            if c0 * c0 < kp / (1.0 + kp) {
                 let y = c0.abs() / kp;
                 let v = y * carlson_rf(1.0 - c0 * c0, 1.0, 1.0 + (1.0 - mc) * (y * y));
                 // u0 = sign(s0) (K -+ v), -+ as cn >= 0 or < 0.
