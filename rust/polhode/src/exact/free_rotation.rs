@@ -1068,7 +1068,7 @@ impl Elliptic {
             (Dd::new(j as f64), q, v, self.k * (q as f64) + v)
         };
         let (s, c, d, kappa, jw) = match self.functions {
-            Functions::Hyperbolic => self.reduced_tiny(q, v, w),
+            Functions::Hyperbolic => self.reduced_hyperbolic(q, v, w),
             Functions::Landen => {
                 let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
                 (s, c, d, 0, self.j_reduced(w, s, c, d))
@@ -1110,7 +1110,7 @@ impl Elliptic {
     /// `k' < 2^-54`: `(sn, cn / 2^kappa, dn / 2^kappa, kappa, J)` of `|w| <= K` from the
     /// hyperbolic functions of `v`, `w = q K + v`, `|v| <= K/2` (module doc; the corrections are
     /// `O(k')` relative).
-    fn reduced_tiny(&self, q: i64, v: Dd, w: Dd) -> (f64, f64, f64, i32, Dd) {
+    fn reduced_hyperbolic(&self, q: i64, v: Dd, w: Dd) -> (f64, f64, f64, i32, Dd) {
         let (th, sech, sh, ch, k) = hyperbolic(v);
         let (s, c, d, kappa) = match q.rem_euclid(4) {
             0 => (th, sech, sech, k),
