@@ -977,3 +977,34 @@ def exact_closed_form(moments, omega0, quat0_xyzw, times, dps=30, want_mp=False)
         if want_mp:
             return out_w, out_q, ws, qs
         return out_w, out_q
+
+
+def exact_period(moments, omega0, dps=30):
+    """The period of omega, ``4 K(m) / lambda`` (three distinct moments) or ``2 pi / |Omega|``
+    (symmetric top), from exact invariants at the digits the parameter needs (any scale); None if
+    the motion is not periodic."""
+    mom = [_exact(v) for v in moments]
+    w = [_exact(v) for v in omega0]
+    m = [a * b for a, b in zip(mom, w, strict=True)]
+    G2 = sum(x * x for x in m)
+    T2 = sum(a * b for a, b in zip(m, w, strict=True))
+    if G2 == 0 or len(set(mom)) == 1:
+        return None
+    with mp.workdps(dps + 10 + _mlog10(max(mom) / min(mom))):
+        if len(set(mom)) == 2:
+            s = [i for i in range(3) if mom.count(mom[i]) == 1][0]
+            it = mom[(s + 1) % 3]
+            om = w[s] * (mom[s] - it) / it
+            if om == 0 or all(w[i] == 0 for i in range(3) if i != s):
+                return None
+            return 2 * mp.pi / abs(_mpf(om))
+        lo, mid, hi = sorted(range(3), key=lambda i: mom[i])
+        d2 = G2 - T2 * mom[mid]
+        if d2 == 0 or sum(x == 0 for x in w) == 2:
+            return None
+        I1, I2, I3 = (mom[i] for i in ([lo, mid, hi] if d2 > 0 else [hi, mid, lo]))
+        D1 = G2 - T2 * I1
+        mc = d2 * (I3 - I1) / (D1 * (I3 - I2))
+        with mp.extradps(max(0.0, -_mlog10(mc))):
+            K = mp.ellipk(1 - _mpf(mc))
+            return 4 * K / mp.sqrt(_mpf(D1 * (I3 - I2) / (I1 * I2 * I3)))

@@ -316,6 +316,33 @@ fn tanh_sech(u: f64) -> (f64, f64) {
     (u.tanh(), sech)
 }
 
+/// `(tanh u, sech u / 2^k, k)` of a double-double `u`, from `e = exp(-|u|) = m 2^k`:
+/// `tanh u = (1 - e^2)/(1 + e^2)`, `sech u = 2 e / (1 + e^2)`, each rounded once.
+fn tanh_sech_dd(u: Dd) -> (f64, f64, i32) {
+    let a = u.abs();
+    let sg = if u.hi < 0.0 { -1.0 } else { 1.0 };
+    if a.hi < 1e-9 {
+        let a2 = a * a;
+        let th = a * (Dd::ONE - a2 / 3.0);
+        return (sg * th.to_f64(), (Dd::ONE - a2 * 0.5).to_f64(), 0);
+    }
+    let (m, k) = exp_dd(-a);
+    if m.hi == 0.0 {
+        return (sg, 0.0, 0);
+    }
+    if k < -56 {
+        // e^2 below 2^-110: 1 +- e^2 = 1 in double-double.
+        return (sg, (m * 2.0).to_f64(), k);
+    }
+    let e2 = (m * m).ldexp(2 * k);
+    let inv = Dd::ONE / (Dd::ONE + e2);
+    (
+        sg * ((Dd::ONE - e2) * inv).to_f64(),
+        (m * 2.0 * inv).to_f64(),
+        k,
+    )
+}
+
 /// The hyperbolic functions of a double-double `v`, from `e = exp(-|v|) = m 2^k`:
 /// `(tanh v, sech v / 2^k, sinh v 2^k, cosh v 2^k, k)`, each rounded once.
 fn hyperbolic(v: Dd) -> (f64, f64, f64, f64, i32) {
@@ -347,10 +374,11 @@ fn hyperbolic(v: Dd) -> (f64, f64, f64, f64, i32) {
         let e2 = (m * m).ldexp(2 * k);
         (Dd::ONE + e2, Dd::ONE - e2)
     };
-    let th = one_m / one_p;
-    let sech = m * 2.0 / one_p;
-    let sh = one_m / (m * 2.0);
-    let ch = one_p / (m * 2.0);
+    let (inv, inv_2m) = (Dd::ONE / one_p, Dd::ONE / (m * 2.0));
+    let th = one_m * inv;
+    let sech = m * 2.0 * inv;
+    let sh = one_m * inv_2m;
+    let ch = one_p * inv_2m;
     (
         sg * th.to_f64(),
         sech.to_f64(),
@@ -441,7 +469,7 @@ impl FreeRotation {
             });
         }
         let momentum = mx.iter().fold(Xd::ZERO, |a, x| a + *x * *x).sqrt().to_f64();
-        let (regime, motion, rate) = Self::classify(&moments, &omega0, &orientation0)?;
+        let (regime, motion, rate) = Self::classify(&moments, &omega0, &mx, &orientation0)?;
         let t_max = if rate.is_zero() {
             f64::INFINITY
         } else {
@@ -464,6 +492,7 @@ impl FreeRotation {
     fn classify(
         moments: &Vector3<f64>,
         omega0: &Vector3<f64>,
+        mx: &[Xd; 3],
         q0: &UnitQuaternion<f64>,
     ) -> Result<(Regime, Motion, Xd)> {
         let steady = || -> Result<(Motion, Xd)> {
@@ -493,7 +522,6 @@ impl FreeRotation {
             let (motion, rate) = steady()?;
             return Ok((Regime::Spherical, motion, rate));
         }
-        let mx = [0, 1, 2].map(|i| Xd::prod(moments[i], omega0[i]));
         if i0 == i1 || i1 == i2 || i0 == i2 {
             let s = if i0 == i1 {
                 2
@@ -507,25 +535,29 @@ impl FreeRotation {
             let g = mx.iter().fold(Xd::ZERO, |acc, x| acc + *x * *x).sqrt();
             let nutation = g / it;
             let body = Xd::sum(is, -it).mul_f64(omega0[s]) / it;
-            let rho = nutation.e;
-            // m0 / G, each component rounded once.
-            let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
-            let body_rate = body.ldexp(-rho).to_dd();
-            let sym = Symmetric {
-                axis: s,
-                rho,
-                nutation_rate: nutation.ldexp(-rho).to_dd(),
-                m_dir,
-                body_rate: if body_rate.hi.abs() < f64::MIN_POSITIVE {
-                    Dd::ZERO
-                } else {
-                    body_rate
-                },
-            };
+            // Time in units of the faster of the two rates (the slower one, if below 2^-1022 of
+            // it, turns by nothing within the time bound and is dropped).
             let rate = if nutation.abs_lt(body) {
                 body.abs()
             } else {
                 nutation
+            };
+            let rho = rate.e;
+            // m0 / G, each component rounded once.
+            let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
+            let normal = |x: Dd| {
+                if x.hi.abs() < f64::MIN_POSITIVE {
+                    Dd::ZERO
+                } else {
+                    x
+                }
+            };
+            let sym = Symmetric {
+                axis: s,
+                rho,
+                nutation_rate: normal(nutation.ldexp(-rho).to_dd()),
+                m_dir,
+                body_rate: normal(body.ldexp(-rho).to_dd()),
             };
             return Ok((Regime::Symmetric { axis: s }, Motion::Symmetric(sym), rate));
         }
@@ -697,13 +729,14 @@ impl FreeRotation {
             let j_half = cel(kp_dd, nu_dd + 1.0, Dd::ZERO, Dd::ONE) * 2.0;
             let jc_quarter = cel(kp_dd, nu_dd + 1.0, Dd::ONE, Dd::ZERO);
             // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
-            // reflected about K when cn < 0. In the outer half (c^2 < k'), u0 = +-(K - v) with
-            // y = sd v = |c| / k' (cn(K - v) = k' sd v): v = y R_F(1 - c^2, 1, 1 + k^2 y^2)
-            // (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so that a small cn keeps its digits.
+            // reflected about K when cn < 0. In the outer half (c^2 < k'/(1 + k') = cn^2(K/2)),
+            // u0 = +-(K - v) with y = sd v = |c| / k' (cn(K - v) = k' sd v):
+            // v = y R_F(1 - c^2, 1, 1 + k^2 y^2) (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so
+            // that a small cn keeps its digits.
             let c0 = m1.div(b1).to_f64().clamp(-1.0, 1.0);
             let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
             let kp = kp_dd.to_f64();
-            if c0 * c0 < kp {
+            if c0 * c0 < kp / (1.0 + kp) {
                 let y = c0.abs() / kp;
                 let v = y * carlson_rf(1.0 - c0 * c0, 1.0, 1.0 + (1.0 - mc) * (y * y));
                 // u0 = sign(s0) (K -+ v), -+ as cn >= 0 or < 0.
@@ -869,7 +902,7 @@ impl FreeRotation {
             }
             Motion::Separatrix(s) => {
                 let u = s.c.u(t);
-                let (th, sech, _, _, kappa) = hyperbolic(u);
+                let (th, sech, kappa) = tanh_sech_dd(u);
                 s.c.omega([sech, th, sech], kappa)
             }
         })
@@ -903,7 +936,7 @@ impl FreeRotation {
             }
             Motion::Separatrix(s) => {
                 let u = s.c.u(t);
-                let (th, sech, _, _, kappa) = hyperbolic(u);
+                let (th, sech, kappa) = tanh_sech_dd(u);
                 s.c.state(t, [sech, th, sech], kappa, s.j(u))
             }
         })
@@ -937,7 +970,7 @@ impl FreeRotation {
                 }
             }
         };
-        p.map(|x| x.to_f64()).filter(|x| x.is_finite())
+        p.map(|x| x.to_f64()).filter(|x| x.is_finite() && *x > 0.0)
     }
 
     /// Kinetic energy `T = omega . I omega / 2` (constant).
@@ -1035,7 +1068,7 @@ impl Elliptic {
             (Dd::new(j as f64), q, v, self.k * (q as f64) + v)
         };
         let (s, c, d, kappa, jw) = match self.functions {
-            Functions::Hyperbolic => self.reduced_tiny(q, v, w),
+            Functions::Hyperbolic => self.reduced_hyperbolic(q, v, w),
             Functions::Landen => {
                 let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
                 (s, c, d, 0, self.j_reduced(w, s, c, d))
@@ -1077,7 +1110,7 @@ impl Elliptic {
     /// `k' < 2^-54`: `(sn, cn / 2^kappa, dn / 2^kappa, kappa, J)` of `|w| <= K` from the
     /// hyperbolic functions of `v`, `w = q K + v`, `|v| <= K/2` (module doc; the corrections are
     /// `O(k')` relative).
-    fn reduced_tiny(&self, q: i64, v: Dd, w: Dd) -> (f64, f64, f64, i32, Dd) {
+    fn reduced_hyperbolic(&self, q: i64, v: Dd, w: Dd) -> (f64, f64, f64, i32, Dd) {
         let (th, sech, sh, ch, k) = hyperbolic(v);
         let (s, c, d, kappa) = match q.rem_euclid(4) {
             0 => (th, sech, sech, k),
@@ -1193,11 +1226,23 @@ mod tests {
         assert!((wrap(Dd::new(-4.0)) - (-4.0 + std::f64::consts::TAU)).abs() < 1e-15);
     }
 
+    const EPS: f64 = f64::EPSILON;
+
     #[test]
     fn hyperbolic_functions_keep_relative_accuracy() {
         // sech(700.5) = 1.196039223727958241282421466099...e-304 (mpmath, 40 digits).
         let (th, sech, sh, ch, k) = hyperbolic(Dd::new(700.5));
         assert_eq!(th, 1.0);
+        assert_eq!(tanh_sech_dd(Dd::new(700.5)), (th, sech, k));
+        for u in [1e-10, 0.3, -2.5, 40.0] {
+            let (a, b, c, _, k) = hyperbolic(Dd::new(u));
+            let (x, y, z) = tanh_sech_dd(Dd::new(u));
+            assert!(
+                (a - x).abs() <= EPS && (b - y).abs() <= EPS * b && z == k,
+                "{u}"
+            );
+            assert!((a - u.tanh()).abs() <= 2.0 * EPS && c.is_finite());
+        }
         let got = ldexp(sech, k);
         assert!((got - 1.196_039_223_727_958_3e-304).abs() <= 1.2e-304 * f64::EPSILON);
         assert!((ldexp(ch, -k) * got - 1.0).abs() <= 2.0 * f64::EPSILON);

@@ -5,7 +5,11 @@
 //!   `mc = 1 - m`, accurate up to `mc -> 0`;
 //! - [`carlson_rf`], [`carlson_rc`], [`carlson_rd`], [`carlson_rj`]: Carlson's symmetric
 //!   integrals by duplication (Carlson 1995);
-//! - [`FreeRotation`]: the torque-free motion of a rigid body in closed form, any time in O(1).
+//! - [`FreeRotation`]: the torque-free motion of a rigid body in closed form, any time in O(1)
+//!   up to [`FreeRotation::max_time`], where double precision ends for the phase (beyond it
+//!   [`FreeRotation::try_state`] is an error), for any positive moments and finite angular
+//!   velocity (an error when the momentum, the energy or the rates are beyond the range of
+//!   doubles).
 //!
 //! ```
 //! use nalgebra::{UnitQuaternion, Vector3};

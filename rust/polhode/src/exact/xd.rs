@@ -60,6 +60,14 @@ impl Dd {
     /// `self 2^e` (each part rounded once if it becomes subnormal).
     #[inline]
     pub fn ldexp(self, e: i32) -> Dd {
+        if (-900..=900).contains(&e) && (self.hi.abs() < 2.0 && self.hi.abs() >= 0.5) {
+            // Both parts stay normal (or zero): one exact product each.
+            let p = pow2(e);
+            return Dd {
+                hi: self.hi * p,
+                lo: self.lo * p,
+            };
+        }
         Dd {
             hi: ldexp(self.hi, e),
             lo: ldexp(self.lo, e),
@@ -79,7 +87,31 @@ impl Xd {
     pub const ZERO: Xd = Xd { m: Dd::ZERO, e: 0 };
 
     /// `m 2^e` normalised.
+    #[inline]
     fn norm(m: Dd, e: i32) -> Xd {
+        // The usual cases (a product or quotient of mantissas) by exact halving or doubling.
+        let a = m.hi.abs();
+        if (1.0..2.0).contains(&a) {
+            return Xd { m, e };
+        }
+        if (2.0..4.0).contains(&a) {
+            return Xd {
+                m: Dd {
+                    hi: 0.5 * m.hi,
+                    lo: 0.5 * m.lo,
+                },
+                e: e + 1,
+            };
+        }
+        if (0.5..1.0).contains(&a) {
+            return Xd {
+                m: Dd {
+                    hi: 2.0 * m.hi,
+                    lo: 2.0 * m.lo,
+                },
+                e: e - 1,
+            };
+        }
         if m.hi == 0.0 {
             return Xd::ZERO;
         }
@@ -314,16 +346,32 @@ impl Sd {
         ldexp(self.x, self.e)
     }
 
+    /// `op(x, y) 2^e`, redone on the mantissas if the double left its comfortable range (the
+    /// same bits whenever the direct result was a normal double: the scalings are exact).
+    fn apply(x: f64, y: f64, e: i32, op: impl Fn(f64, f64) -> f64, sign: i32) -> Sd {
+        let r = op(x, y);
+        let (_, k) = frexp(r);
+        if (r != 0.0 && (-SD_LIMIT..=SD_LIMIT).contains(&k))
+            || x == 0.0
+            || !r.is_finite() && !x.is_finite()
+        {
+            return Sd::fix(r, e);
+        }
+        let (mx, ex) = frexp(x);
+        let (my, ey) = frexp(y);
+        Sd::new(op(mx, my), e + ex + sign * ey)
+    }
+
     pub fn mul(self, b: Sd) -> Sd {
-        Sd::fix(self.x * b.x, self.e + b.e)
+        Sd::apply(self.x, b.x, self.e + b.e, |x, y| x * y, 1)
     }
 
     pub fn mul_f64(self, b: f64) -> Sd {
-        Sd::fix(self.x * b, self.e)
+        Sd::apply(self.x, b, self.e, |x, y| x * y, 1)
     }
 
     pub fn div(self, b: Sd) -> Sd {
-        Sd::fix(self.x / b.x, self.e - b.e)
+        Sd::apply(self.x, b.x, self.e - b.e, |x, y| x / y, -1)
     }
 
     /// Square root (of a value `>= 0`).
@@ -366,7 +414,39 @@ pub(crate) const LN2: Dd = Dd {
     lo: 2.319_046_813_846_299_6e-17,
 };
 
-/// `e^x = m 2^k` in double-double, `1/sqrt(2) <= m <= sqrt(2)` (about 1e-31 relative); `(0, 0)`
+/// `1/n!` for `n = 3..=9` to 106 bits.
+const INV_FACT: [Dd; 7] = [
+    Dd {
+        hi: 0.166_666_666_666_666_66,
+        lo: 9.251_858_538_542_97e-18,
+    },
+    Dd {
+        hi: 0.041_666_666_666_666_664,
+        lo: 2.312_964_634_635_742_7e-18,
+    },
+    Dd {
+        hi: 0.008_333_333_333_333_333,
+        lo: 1.156_482_317_317_871_4e-19,
+    },
+    Dd {
+        hi: 0.001_388_888_888_888_889,
+        lo: -5.300_543_954_373_577e-20,
+    },
+    Dd {
+        hi: 0.000_198_412_698_412_698_4,
+        lo: 1.720_955_829_342_070_5e-22,
+    },
+    Dd {
+        hi: 2.480_158_730_158_73e-5,
+        lo: 2.151_194_786_677_588_2e-23,
+    },
+    Dd {
+        hi: 2.755_731_922_398_589_3e-6,
+        lo: -1.858_393_274_046_472e-22,
+    },
+];
+
+/// `e^x = m 2^k` in double-double, `1/sqrt(2) <= m <= sqrt(2)` (about 1e-30 relative); `(0, 0)`
 /// far below the range of doubles.
 pub(crate) fn exp_dd(x: Dd) -> (Dd, i32) {
     if x.hi < -1e6 {
@@ -375,16 +455,15 @@ pub(crate) fn exp_dd(x: Dd) -> (Dd, i32) {
     let k = (x.hi / LN2.hi).round();
     // r = x - k ln 2, |r| <= ln2 / 2 (k ln 2 to 106 bits: k has at most 21 bits).
     let r = x - Dd::prod(LN2.hi, k) - Dd::prod(LN2.lo, k);
-    // e^r = (e^(r / 2^10))^(2^10): the series to the 9th power, then 10 squarings of 1 + p,
-    // carried as p (2 p + p^2) so that nothing cancels.
-    let s = r * (1.0 / 1024.0);
-    let mut term = s;
-    let mut p = s;
-    for n in 2..=10 {
-        term = term * s / f64::from(n);
-        p = p + term;
+    // e^r = (e^s)^256, s = r / 256: e^s - 1 by its series to s^9 (the rest is below 1e-35 of
+    // it), then 8 squarings of 1 + p carried as p <- 2 p + p^2, so that nothing cancels.
+    let s = r * (1.0 / 256.0);
+    let mut q = INV_FACT[6];
+    for c in INV_FACT[..6].iter().rev() {
+        q = q * s + *c;
     }
-    for _ in 0..10 {
+    let mut p = s + s * s * (s * q + 0.5);
+    for _ in 0..8 {
         p = p * 2.0 + p * p;
     }
     (p + 1.0, k as i32)
@@ -417,8 +496,10 @@ pub(crate) fn asinh_xd(y: Xd) -> Dd {
 /// expansion (two-product splits), which repeated error-free passes (two-sum along the list,
 /// Ogita, Rump and Oishi 2005) distil until it no longer changes. Exact while the terms are
 /// within `2^1000` of each other (a smaller one is negligible, not lost to the sign).
-pub(crate) fn exact_sum_a_b2_diff(terms: &[(f64, f64, f64, f64)]) -> Xd {
-    let mut parts: Vec<(f64, i32)> = Vec::new();
+pub(crate) fn exact_sum_a_b2_diff(terms: &[(f64, f64, f64, f64); 2]) -> Xd {
+    // At most 2 terms x 2 parts of the difference x 16 components of a four-fold product.
+    let mut parts = [(0.0f64, 0i32); 64];
+    let mut n = 0;
     for &(a, b, c, d) in terms {
         let diff = Dd::sum(c, -d);
         for x in [diff.hi, diff.lo] {
@@ -428,36 +509,43 @@ pub(crate) fn exact_sum_a_b2_diff(terms: &[(f64, f64, f64, f64)]) -> Xd {
             let (ma, ea) = frexp(a);
             let (mb, eb) = frexp(b);
             let (mx, ex) = frexp(x);
-            let mut comps = vec![1.0f64];
+            let mut comps = [0.0f64; 16];
+            comps[0] = 1.0;
+            let mut len = 1;
             for m in [ma, mb, mb, mx] {
-                let mut next = Vec::with_capacity(2 * comps.len());
-                for c in comps {
-                    let p = Dd::prod(c, m);
-                    next.push(p.hi);
-                    if p.lo != 0.0 {
-                        next.push(p.lo);
-                    }
+                for i in (0..len).rev() {
+                    let p = Dd::prod(comps[i], m);
+                    comps[2 * i] = p.hi;
+                    comps[2 * i + 1] = p.lo;
                 }
-                comps = next;
+                len *= 2;
             }
             let e = ea + 2 * eb + ex;
-            parts.extend(comps.into_iter().map(|c| (c, e)));
+            for c in &comps[..len] {
+                parts[n] = (*c, e);
+                n += 1;
+            }
         }
     }
-    let Some(emax) = parts.iter().map(|p| p.1).max() else {
+    let Some(emax) = parts[..n].iter().map(|p| p.1).max() else {
         return Xd::ZERO;
     };
-    let mut v: Vec<f64> = parts
-        .iter()
-        .map(|&(c, e)| ldexp(c, e - emax))
-        .filter(|c| *c != 0.0)
-        .collect();
-    if v.is_empty() {
+    let mut v = [0.0f64; 64];
+    let mut len = 0;
+    for &(c, e) in &parts[..n] {
+        let x = ldexp(c, e - emax);
+        if x != 0.0 {
+            v[len] = x;
+            len += 1;
+        }
+    }
+    if len == 0 {
         return Xd::ZERO;
     }
+    let v = &mut v[..len];
     for _ in 0..200 {
         let mut changed = false;
-        for i in 1..v.len() {
+        for i in 1..len {
             let s = Dd::sum(v[i], v[i - 1]);
             changed |= s.hi != v[i] || s.lo != v[i - 1];
             v[i] = s.hi;
@@ -467,9 +555,8 @@ pub(crate) fn exact_sum_a_b2_diff(terms: &[(f64, f64, f64, f64)]) -> Xd {
             break;
         }
     }
-    let n = v.len();
-    let lo: f64 = v[..n - 1].iter().sum();
-    Xd::from_dd(Dd::sum(v[n - 1], lo)).ldexp(emax)
+    let lo: f64 = v[..len - 1].iter().sum();
+    Xd::from_dd(Dd::sum(v[len - 1], lo)).ldexp(emax)
 }
 
 #[cfg(test)]
