@@ -2,7 +2,6 @@
 //! their settings and results, and the loops that run them.
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
-use rayon::prelude::*;
 
 use super::dop853::{self, Settings, Tolerance};
 use super::midpoint::Midpoint;
@@ -636,37 +635,4 @@ pub fn integrate_body(
         orientation: collector.orientation,
         stats,
     })
-}
-
-/// Integrates many bodies with the same method, output times and options, in parallel (rayon).
-///
-/// Each body's trajectory is bitwise identical to [`integrate`] on it alone, whatever the
-/// number of threads. On failure, the error of the first failing body (by index) is returned,
-/// its argument name suffixed with the body index. Once `options.monitor` is cancelled, the
-/// bodies running stop at their next look and those not started are skipped: the result is
-/// then [`Error::Interrupted`] (or an earlier body's error).
-pub fn integrate_batch(
-    method: &Method,
-    moments: &[Vector3<f64>],
-    states0: &[State],
-    times: &[f64],
-    options: &Options,
-) -> Result<Vec<Trajectory>> {
-    if moments.len() != states0.len() {
-        return Err(Error::Shape {
-            name: "states0".into(),
-            expected: format!("({},)", moments.len()),
-            got: format!("({},)", states0.len()),
-        });
-    }
-    let results: Vec<Result<Trajectory>> = moments
-        .par_iter()
-        .zip(states0.par_iter())
-        .map(|(m, s)| integrate(method, m, s, times, options))
-        .collect();
-    results
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| r.map_err(|e| e.map_name(|name| format!("{name} (body {i})"))))
-        .collect()
 }
