@@ -17,7 +17,7 @@ from polhode.errors import (
     ShapeError,
 )
 from polhode.perturbation import perturbation
-from polhode.principal_axes import Principal, principal
+from polhode.principal_axes import Principal, point_masses_inertia, principal
 from polhode.simulation import Trajectory, simulate
 
 __all__ = [
@@ -36,6 +36,7 @@ __all__ = [
     "errors",
     "perturbation",
     "plot",
+    "point_masses_inertia",
     "principal",
     "simulate",
     "torque",

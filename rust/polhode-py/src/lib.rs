@@ -6,6 +6,7 @@
 
 mod convert;
 mod errors;
+mod frames;
 mod mass;
 mod motion;
 mod torque;
@@ -14,6 +15,9 @@ mod watch;
 /// The compiled core of polhode. Use the `polhode` package, not this module.
 #[pyo3::pymodule]
 mod _core {
+    #[pymodule_export]
+    use crate::frames::point_masses_inertia;
+
     #[pymodule_export]
     use crate::mass::{principal, PyMassProperties};
 
