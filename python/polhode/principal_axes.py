@@ -79,8 +79,8 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
     to frame instead of being put in canonical form in each: frame 0 is canonical (ascending,
     deterministic signs); every later frame takes the signed permutation of its axes closest to
     the previous frame's (largest sum of ``|a_prev . a|``, signs making each dot product
-    positive, det = +1 kept, flipping the least aligned axis if the match alone would give
-    -1). The axes then neither flip sign nor swap between consecutive frames of a smooth motion,
+    positive; that match is always a proper rotation, so det = +1 is kept). The axes then
+    neither flip sign nor swap between consecutive frames of a smooth motion,
     and go through a crossing of two moments by continuity: ``axes[t, :, k]`` stays the same
     physical axis, and ``moments[t, k]`` and ``multiplicity[t, k]`` follow it, so the moments
     are **no longer ascending** after a crossing (``np.sort(p.moments, axis=-1)`` gives them
@@ -224,9 +224,8 @@ def point_masses_inertia(masses: Any, positions: Any) -> NDArray[np.float64]:
 
 # --- axes followed along a series -------------------------------------------------------------
 
-# The six permutations of three axes and their signs (parities).
+# The six permutations of three axes.
 _PERMUTATIONS = np.array([[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]])
-_PARITY = np.array([1, -1, -1, 1, 1, -1])
 
 
 def _signed_permutations() -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
@@ -252,19 +251,20 @@ _PERMS, _SIGNS, _TABLE = _signed_permutations()
 
 
 def _match(reference: NDArray[np.float64], axes: NDArray[np.float64]) -> NDArray[np.int64]:
-    """For each pair (K, 3, 3), the signed permutation g with ``axes @ Q_g`` closest to
-    ``reference``: the permutation maximising sum_j |r_j . a_p(j)|, signs making each dot
-    product >= 0, and det(Q_g) = +1 (the least aligned axis flipped if needed)."""
+    """For each pair (K, 3, 3) of proper rotations, the signed permutation g with
+    ``axes @ Q_g`` closest to ``reference``: the permutation maximising sum_j |r_j . a_p(j)|,
+    signs making each dot product >= 0.
+
+    The result is always proper (det Q_g = +1): it maximises tr(R^T A Q) over all 48 signed
+    permutations, an improper Q would make R^T A Q an improper orthogonal matrix, whose trace
+    is at most 1, while some proper Q (an element of the octahedral group, which comes within
+    about 63 degrees of any rotation) gives a trace of at least 1 + 2 cos(63 deg) > 1.9.
+    """
     m = np.matmul(reference.transpose(0, 2, 1), axes)  # m[k, i, j] = r_i . a_j
     rows = np.arange(3)
     picked = m[:, rows, _PERMUTATIONS]  # (K, 6, 3): m[k, j, p(j)] for each permutation p
     best = np.argmax(np.abs(picked).sum(axis=2), axis=1)
-    values = picked[np.arange(len(m)), best]  # (K, 3)
-    negative = values < 0
-    det = _PARITY[best] * np.where(negative.sum(axis=1) % 2 == 1, -1, 1)
-    weakest = np.argmin(np.abs(values), axis=1)
-    flip = det < 0
-    negative[flip, weakest[flip]] ^= True
+    negative = picked[np.arange(len(m)), best] < 0  # (K, 3)
     bits = (negative * (1 << rows)).sum(axis=1)
     return best * 8 + bits
 
@@ -306,7 +306,13 @@ def _procrustes(
     """One degenerate frame's axes closest to ``previous``: each group of equal moments spans a
     subspace; the slots (previous axes) go to the groups by the permutation with the largest
     projected energy, and each group's basis is the orthonormal one closest to its slots'
-    previous axes (the orthogonal polar factor of ``U_G^T W_J``)."""
+    previous axes (the orthogonal polar factor of ``U_G^T W_J``).
+
+    The result is proper: it maximises tr(W_prev^T W) over the bases adapted to the groups with
+    that assignment, and among them is the rotation of W_prev that turns its axis nearest the
+    line of a single moment onto that line (by at most 54.7 degrees, so a trace above 2), while
+    an improper W would have a trace of at most 1. (Three equal moments give W = W_prev.)
+    """
     groups = [np.flatnonzero(moments == value) for value in np.unique(moments)]
     group_of = np.empty(3, dtype=np.int64)
     for k, members in enumerate(groups):
@@ -323,9 +329,6 @@ def _procrustes(
         basis = axes[:, members]
         u, _, vt = np.linalg.svd(basis.T @ previous[:, slots])
         new_axes[:, slots] = basis @ (u @ vt)
-    if np.linalg.det(new_axes) < 0:
-        weakest = int(np.argmin(np.einsum("ij,ij->j", new_axes, previous)))
-        new_axes[:, weakest] *= -1.0
     return moments[perm], new_axes, multiplicity[perm]
 
 
