@@ -31,8 +31,13 @@ import numpy as np
 import polhode as ph
 
 # Atoms of a protein by element (about 50% H, 32% C, 9% N, 9.6% O, 0.4% S), their masses in u.
-_ELEMENTS = {"H": (0.50, 1.008), "C": (0.32, 12.011), "N": (0.085, 14.007), "O": (0.091, 15.999),
-             "S": (0.004, 32.06)}
+_ELEMENTS = {
+    "H": (0.50, 1.008),
+    "C": (0.32, 12.011),
+    "N": (0.085, 14.007),
+    "O": (0.091, 15.999),
+    "S": (0.004, 32.06),
+}
 
 
 def trajectory(frames: int, atoms: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -116,18 +121,23 @@ def main() -> None:
     mda_axes = mda_rows.transpose(0, 2, 1)[:, :, ::-1]  # rows, descending -> columns, ascending
     p = results["polhode"]
     assert isinstance(p, ph.Principal)
-    angle = np.degrees(np.arccos(np.clip(np.abs(np.einsum("tik,tik->tk", p.axes, mda_axes)),
-                                         0.0, 1.0)))
+    angle = np.degrees(
+        np.arccos(np.clip(np.abs(np.einsum("tik,tik->tk", p.axes, mda_axes)), 0.0, 1.0))
+    )
     median = {name: statistics.median(v) for name, v in times.items()}
-    print(f"# bench_frames: {args.frames} frames of {args.atoms} atoms (float32), "
-          f"median of {args.repeats} rounds")
+    print(
+        f"# bench_frames: {args.frames} frames of {args.atoms} atoms (float32), "
+        f"median of {args.repeats} rounds"
+    )
     print(f"{'':12s} {'time (s)':>9s} {'per frame (us)':>15s} {'flips per axis':>16s}")
     for name, axes in (("MDAnalysis", mda_axes), ("polhode", p.axes)):
         per = 1e6 * median[name] / args.frames
         print(f"{name:12s} {median[name]:9.3f} {per:15.1f} {str(flips(axes).tolist()):>16s}")
     print(f"ratio (MDAnalysis / polhode): {median['MDAnalysis'] / median['polhode']:.1f}x")
-    print(f"polhode parts: point_masses_inertia {t_inertia:.3f} s, "
-          f"principal(continuous=True) {t_follow:.3f} s")
+    print(
+        f"polhode parts: point_masses_inertia {t_inertia:.3f} s, "
+        f"principal(continuous=True) {t_follow:.3f} s"
+    )
     print(f"largest angle between the two libraries' axes: {angle.max():.2e} degrees")
     spread = max((max(v) - min(v)) / statistics.median(v) for v in times.values())
     print(f"(times spread up to {100 * spread:.0f}% of the median)")

@@ -318,8 +318,10 @@ def _procrustes(
     for k, members in enumerate(groups):
         group_of[members] = k
     energy = np.array(
-        [[float(np.sum((axes[:, members].T @ previous[:, j]) ** 2)) for members in groups]
-         for j in range(3)]
+        [
+            [float(np.sum((axes[:, members].T @ previous[:, j]) ** 2)) for members in groups]
+            for j in range(3)
+        ]
     )  # energy[j, k]: how much of previous axis j lies in group k's subspace
     scores = energy[np.arange(3), group_of[_PERMUTATIONS]].sum(axis=1)
     perm = _PERMUTATIONS[int(np.argmax(scores))]
