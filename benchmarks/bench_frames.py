@@ -13,7 +13,8 @@ Timed, each from the same array in memory:
   MemoryReader holds that array (the per-frame loop its users write);
 - polhode: ``ph.principal(ph.point_masses_inertia(masses, xyz), continuous=True)``.
 
-They take turns, R rounds (default 3); the table gives the medians and the ratio. Then the
+They take turns, R rounds (default 3); the table gives the median wall and CPU times (all
+threads; polhode runs on every core) and the ratio of the wall times. Then the
 flips: a frame whose axis has a negative dot product with the same axis in the previous frame
 (the motion is smooth, so every flip is spurious), per axis, for both; and the largest angle
 between the two libraries' axes (after matching MDAnalysis's descending rows to polhode's
@@ -102,12 +103,14 @@ def main() -> None:
         return ph.principal(ph.point_masses_inertia(masses, xyz), continuous=True)
 
     times: dict[str, list[float]] = {"MDAnalysis": [], "polhode": []}
+    cpu: dict[str, list[float]] = {"MDAnalysis": [], "polhode": []}
     results: dict[str, object] = {}
     for _ in range(args.repeats):
         for name, run in (("MDAnalysis", run_mdanalysis), ("polhode", run_polhode)):
-            started = time.perf_counter()
+            started, cpu_started = time.perf_counter(), time.process_time()
             results[name] = run()
             times[name].append(time.perf_counter() - started)
+            cpu[name].append(time.process_time() - cpu_started)
     # The two parts of polhode's call, once each.
     started = time.perf_counter()
     inertia = ph.point_masses_inertia(masses, xyz)
@@ -129,10 +132,16 @@ def main() -> None:
         f"# bench_frames: {args.frames} frames of {args.atoms} atoms (float32), "
         f"median of {args.repeats} rounds"
     )
-    print(f"{'':12s} {'time (s)':>9s} {'per frame (us)':>15s} {'flips per axis':>16s}")
+    print(
+        f"{'':12s} {'time (s)':>9s} {'per frame (us)':>15s} {'CPU (s)':>9s} {'flips per axis':>16s}"
+    )
     for name, axes in (("MDAnalysis", mda_axes), ("polhode", p.axes)):
         per = 1e6 * median[name] / args.frames
-        print(f"{name:12s} {median[name]:9.3f} {per:15.1f} {str(flips(axes).tolist()):>16s}")
+        used = statistics.median(cpu[name])
+        print(
+            f"{name:12s} {median[name]:9.3f} {per:15.1f} {used:9.3f} "
+            f"{str(flips(axes).tolist()):>16s}"
+        )
     print(f"ratio (MDAnalysis / polhode): {median['MDAnalysis'] / median['polhode']:.1f}x")
     print(
         f"polhode parts: point_masses_inertia {t_inertia:.3f} s, "

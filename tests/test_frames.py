@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import itertools
 
+import MDAnalysis as mda
 import numpy as np
 import pytest
+from MDAnalysis.coordinates.memory import MemoryReader
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
@@ -249,9 +251,6 @@ def test_a_spherical_frame_keeps_the_previous_axes():
 
 
 def test_continuous_agrees_with_mdanalysis_and_has_no_flips_where_it_has_some():
-    mda = pytest.importorskip("MDAnalysis")
-    from MDAnalysis.coordinates.memory import MemoryReader
-
     rng = np.random.default_rng(9)
     masses, cloud = asymmetric_cloud(rng, 60)
     count = 300
