@@ -27,7 +27,8 @@ class Principal:
     Attributes
     ----------
     moments : (..., 3) numpy.ndarray
-        Principal moments, ascending.
+        Principal moments, ascending (except along a series followed with
+        ``principal(..., continuous=True)``, where they follow their axes).
     axes : (..., 3, 3) numpy.ndarray
         Principal axes as the columns of a proper rotation (det = +1): column k belongs to
         ``moments[..., k]`` and maps principal coordinates to body coordinates,
