@@ -414,6 +414,20 @@ mod tests {
     }
 
     #[test]
+    fn a_cancelled_monitor_stops_the_frames() {
+        let masses = [1.0, 2.0];
+        let frames = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]].repeat(40_000);
+        let mut out = vec![0.0; 9 * 40_000];
+        let monitor = Monitor::new();
+        point_masses_inertia_monitored(&masses, &frames, &mut out, Some(&monitor)).unwrap();
+        assert!((out[9 * 39_999 + 4] - 2.0 / 3.0).abs() < 1e-15); // I_yy = mu d^2
+        monitor.cancel();
+        let error =
+            point_masses_inertia_monitored(&masses, &frames, &mut out, Some(&monitor)).unwrap_err();
+        assert_eq!(error, Error::Interrupted);
+    }
+
+    #[test]
     fn bad_input_is_named() {
         let mut out = [0.0; 18];
         let frames = [[0.0; 3], [1.0, 0.0, 0.0], [0.0; 3], [f64::NAN, 0.0, 0.0]];
