@@ -148,6 +148,10 @@ def test_bad_atoms_input_is_named():
         ph.Body.from_atoms(["O", True, "H"], water())
     with pytest.raises(TypeError, match=r"symbols\[2\]"):
         ph.Body.from_atoms(["O", "H", 1.0], water())
+    with pytest.raises(TypeError, match=r"symbols\[0\]"):
+        ph.Body.from_atoms([["O"], "H", "H"], water())
+    with pytest.raises(TypeError, match=r"symbols\[1\]"):
+        ph.Body.from_atoms(["O", ["H"], "H"], water(), masses=[16.0, 1.0, 1.0])
     with pytest.raises(ph.ArgumentError, match="no standard atomic weight") as error:
         ph.Body.from_atoms(["Tc", "O"], [[0, 0, 0], [0, 0, 1]], masses="average")
     assert error.value.argument == "symbols"

@@ -163,6 +163,14 @@ def _symbols_list(symbols: Any) -> list[Any]:
     return [s.item() if isinstance(s, np.generic) else s for s in symbols]
 
 
+def _key(label: Any, index: int) -> tuple[type, Any]:
+    """A dictionary key for a label (its type too: True is not 1); a label of the wrong type
+    raises here, with the message of :func:`_parse`."""
+    if not isinstance(label, str | numbers.Integral):
+        _parse(label, index)
+    return type(label), label
+
+
 def _masses(symbols: Any, masses: Any) -> tuple[list[Any], NDArray[np.float64]]:
     """The atoms' labels and masses (u) for :meth:`Body.from_atoms`."""
     labels = _symbols_list(symbols)
@@ -177,10 +185,19 @@ def _masses(symbols: Any, masses: Any) -> tuple[list[Any], NDArray[np.float64]]:
                 f"got {masses!r}.",
                 argument="masses",
             )
-        values = np.array([_atom_mass(s, masses, i) for i, s in enumerate(labels)])
+        known: dict[Any, float] = {}  # each distinct label looked up once (proteins)
+        keys = [_key(label, i) for i, label in enumerate(labels)]
+        for i, (key, label) in enumerate(zip(keys, labels, strict=True)):
+            if key not in known:
+                known[key] = _atom_mass(label, masses, i)
+        values = np.array([known[key] for key in keys])
         return labels, values
+    checked: set[Any] = set()
     for i, label in enumerate(labels):
-        _parse(label, i)  # the labels are checked even when the masses are given
+        key = _key(label, i)
+        if key not in checked:
+            _parse(label, i)  # the labels are checked even when the masses are given
+            checked.add(key)
     values = as_array("masses", masses, (len(labels),))
     return labels, values
 

@@ -416,7 +416,7 @@ mod tests {
     #[test]
     fn a_cancelled_monitor_stops_the_frames() {
         let masses = [1.0, 2.0];
-        let frames = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]].repeat(40_000);
+        let frames = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]].repeat(40_000);
         let mut out = vec![0.0; 9 * 40_000];
         let monitor = Monitor::new();
         point_masses_inertia_monitored(&masses, &frames, &mut out, Some(&monitor)).unwrap();
