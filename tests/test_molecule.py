@@ -470,6 +470,7 @@ def test_from_molecule_reads_an_mdanalysis_group(tmp_path):
     ids=lambda t: getattr(t, "__qualname__", getattr(t, "__name__", str(t))),
 )
 def test_docstring_examples_run(target):
+    assert ph.molecule is molecule  # `import polhode` is enough for ph.molecule
     finder = doctest.DocTestFinder(recurse=target is molecule)
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     tests = finder.find(target, globs={})
