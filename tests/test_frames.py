@@ -88,6 +88,21 @@ def test_a_cloud_far_from_the_origin_keeps_its_digits():
         assert np.abs(inertia[t] - exact).max() <= 64 * EPS * np.trace(exact)
 
 
+def test_a_needle_keeps_its_small_moment():
+    # Points along x spread by 1e-9 across it: I_xx = sum m (y^2 + z^2) ~ 1e-18 next to
+    # I_yy ~ 1; each diagonal element is formed from the two other second moments, so it keeps
+    # its relative digits (tr(C) - C_xx would give 0).
+    rng = np.random.default_rng(5)
+    masses = rng.uniform(1.0, 2.0, 64)
+    positions = np.zeros((64, 3))
+    positions[:, 0] = np.linspace(-1.0, 1.0, 64)
+    positions[:, 1:] = rng.normal(size=(64, 2)) * 1e-9
+    inertia = ph.point_masses_inertia(masses, positions)
+    exact = ref.point_mass_properties_exact(masses, positions).inertia
+    assert inertia[0, 0] == pytest.approx(exact[0, 0], rel=1e-12)
+    assert exact[0, 0] < 1e-16 * exact[1, 1]
+
+
 def test_point_masses_inertia_names_bad_input():
     masses = np.array([1.0, 2.0, 3.0])
     positions = np.zeros((4, 3, 3))

@@ -139,17 +139,18 @@ pub fn point_masses_inertia_monitored<P: Position>(
             for (j, (frame, tensor)) in points.chunks(n).zip(out.chunks_mut(9)).enumerate() {
                 let t = chunk * per_chunk + j;
                 let c = frame_second_moment(&masses, frame, t, &mut offsets)?;
-                let trace = c[0] + c[3] + c[5];
+                // I = tr(C) 1 - C with each diagonal element the sum of the two other second
+                // moments (not tr(C) - C_kk, which loses a needle's small moment).
                 let values = [
-                    trace - c[0],
+                    c[3] + c[5],
                     -c[1],
                     -c[2],
                     -c[1],
-                    trace - c[3],
+                    c[0] + c[5],
                     -c[4],
                     -c[2],
                     -c[4],
-                    trace - c[5],
+                    c[0] + c[3],
                 ];
                 if !values.iter().all(|x| x.is_finite()) {
                     return Err(frame_overflow(t));
