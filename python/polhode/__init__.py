@@ -1,10 +1,11 @@
 """polhode: the rotation of rigid bodies, with a Rust core.
 
-Mass properties and principal axes (:class:`Body`, :func:`principal`), motion
+Mass properties and principal axes (:class:`Body`, :func:`principal`), molecules
+(:meth:`Body.from_atoms`, :mod:`polhode.molecule`), motion
 (:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); see the README.
 """
 
-from polhode import errors, plot, torque
+from polhode import errors, molecule, plot, torque
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.errors import (
@@ -17,7 +18,7 @@ from polhode.errors import (
     ShapeError,
 )
 from polhode.perturbation import perturbation
-from polhode.principal_axes import Principal, principal
+from polhode.principal_axes import Principal, point_masses_inertia, principal
 from polhode.simulation import Trajectory, simulate
 
 __all__ = [
@@ -34,8 +35,10 @@ __all__ = [
     "Trajectory",
     "analyze",
     "errors",
+    "molecule",
     "perturbation",
     "plot",
+    "point_masses_inertia",
     "principal",
     "simulate",
     "torque",

@@ -12,6 +12,7 @@ __all__ = [
     "MassProperties",
     "check_torque",
     "free_rotation",
+    "point_masses_inertia",
     "principal",
     "simulate",
 ]
@@ -63,6 +64,9 @@ class MassProperties:
     def angular_momentum_body(self, omega: NDArray[np.float64]) -> NDArray[np.float64]: ...
     def kinetic_energy(self, omega: NDArray[np.float64]) -> float: ...
 
+def point_masses_inertia(
+    masses: NDArray[np.float64], positions: NDArray[np.float64] | NDArray[np.float32]
+) -> NDArray[np.float64]: ...
 def principal(
     inertia: NDArray[np.float64], rtol: float | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]: ...

@@ -323,6 +323,132 @@ class Body:
         tensor = np.array([[v[0], v[1], v[2]], [v[1], v[3], v[4]], [v[2], v[4], v[5]]])
         return cls.from_inertia(mass, tensor, center_of_mass)
 
+    # --- molecules ------------------------------------------------------------------------
+
+    @classmethod
+    def from_atoms(cls, symbols: Any, positions: Any, *, masses: Any = "most_abundant") -> Body:
+        """A molecule: atoms given by element symbol (or isotope, or atomic number) and position.
+
+        Masses in u (daltons) from the ``periodictable`` package: ``"most_abundant"`` (default)
+        takes each element's most abundant isotope (AME 2020 masses; CIAAW abundances), the
+        masses rotational spectroscopy needs for the main isotopologue; ``"average"`` takes the
+        standard atomic weight (CIAAW 2021, abridged), as for bulk properties; an array (N,)
+        gives the masses directly. A label with a mass number always means that isotope:
+        ``"13C"``, ``"2H"`` (or ``"D"``), ``"T"``, ``"37Cl"``.
+
+        Parameters
+        ----------
+        symbols : sequence of str or int
+            N labels: ``"C"``, ``"Cl"``, ``"13C"``, ``"D"``, ``"T"``, or atomic numbers (case
+            matters: ``"CL"`` is not chlorine).
+        positions : (N, 3) array_like
+            Positions, in angstrom for :mod:`polhode.molecule`'s default units.
+        masses : {"most_abundant", "average"} or (N,) array_like, optional
+            Which masses, or the masses themselves (the labels are still checked).
+
+        Returns
+        -------
+        Body
+            Point masses at the atoms.
+
+        Raises
+        ------
+        ArgumentError
+            An unknown element or isotope, naming ``symbols[i]``; an element with no natural
+            abundance (``"most_abundant"``) or no standard atomic weight (``"average"``): give
+            its isotope; an unknown ``masses`` choice.
+        ShapeError
+            No atoms; ``positions`` not (N, 3); ``masses`` not (N,).
+        NonFiniteError
+            A non-finite position, naming ``positions[i, k]``.
+        TypeError
+            ``symbols`` a single string, or holding something else than labels.
+
+        Examples
+        --------
+        >>> import polhode as ph
+        >>> positions = [[0, 0, 0.1173], [0, 0.7572, -0.4692], [0, -0.7572, -0.4692]]
+        >>> water = ph.Body.from_atoms(["O", "H", "H"], positions)
+        >>> round(water.mass, 6)  # 16O + 2 x 1H
+        18.010565
+        >>> round(ph.Body.from_atoms(["O", "D", "D"], positions).mass, 4)  # heavy water
+        20.0231
+        >>> round(ph.Body.from_atoms(["O", "H", "H"], positions, masses="average").mass, 3)
+        18.015
+        >>> ph.Body.from_atoms([8, 1, 1], positions).mass == water.mass  # atomic numbers
+        True
+        """
+        from polhode.molecule import _masses
+
+        labels, values = _masses(symbols, masses)
+        r = as_array("positions", positions, (None, 3))
+        if r.shape[0] != len(labels):
+            raise ShapeError(
+                f"Expected `positions` to have shape ({len(labels)}, 3) to match `symbols`, "
+                f"got ({r.shape[0]}, 3).",
+                argument="positions",
+            )
+        return cls.point_masses(values, r)
+
+    @classmethod
+    def from_molecule(
+        cls,
+        molecule: Any,
+        *,
+        masses: Any = "most_abundant",
+        format: str | None = None,
+        conformer: int = -1,
+    ) -> Body:
+        """A molecule from a file or from another library's molecule (duck-typed).
+
+        ``molecule`` may be a path (read by ASE's ``ase.io.read``: XYZ, PDB, CIF, mol, SDF and
+        the other formats ASE knows, the first structure of the file; ``format`` as ASE names
+        it, guessed from the extension by default), an ASE ``Atoms``, an MDAnalysis
+        ``AtomGroup`` or ``Universe`` (its ``elements``, at the current frame), or an RDKit
+        ``Mol`` (the conformer ``conformer``, isotopes as set on its atoms; only the atoms the
+        Mol holds: add hydrogens with ``Chem.AddHs`` before embedding). Positions in angstrom,
+        as all three give them; masses as in :meth:`from_atoms` (the other library's own masses
+        are not used: pass them as ``masses=`` to use them). Reading a file needs ASE
+        (``pip install 'polhode[chem]'``).
+
+        Parameters
+        ----------
+        molecule : str, os.PathLike, ase.Atoms, MDAnalysis AtomGroup or rdkit Mol
+            The molecule.
+        masses : {"most_abundant", "average"} or (N,) array_like, optional
+            As in :meth:`from_atoms`.
+        format : str, optional
+            ASE's name of the file format, for a path.
+        conformer : int, optional
+            RDKit conformer id (default -1, the first).
+
+        Returns
+        -------
+        Body
+
+        Raises
+        ------
+        TypeError
+            Anything else than the four kinds above.
+        FileNotFoundError
+            A path that does not exist.
+        ArgumentError
+            A file ASE cannot read, an RDKit Mol without conformers, an MDAnalysis group
+            without elements, an unknown element.
+
+        Examples
+        --------
+        >>> import ase.build
+        >>> import polhode as ph
+        >>> from polhode.molecule import rotor_type
+        >>> rotor_type(ph.Body.from_molecule(ase.build.molecule("NH3")))
+        'oblate'
+        """
+        from polhode.molecule import _atoms_of
+
+        labels, positions = _atoms_of(molecule, format, conformer)
+        return cls.from_atoms(labels, positions, masses=masses)
+
     # --- properties -----------------------------------------------------------------------
 
     @property

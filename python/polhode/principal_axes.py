@@ -1,4 +1,5 @@
-"""Principal moments and axes: the result type and the batch eigensolve."""
+"""Principal moments and axes: the result type, the batch eigensolve, axes followed along a
+series (``continuous=True``), and the inertia tensors of a point-mass trajectory's frames."""
 
 from __future__ import annotations
 
@@ -9,12 +10,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode._coerce import as_float_array, as_scalar
+from polhode._coerce import as_array, as_float_array, as_scalar
+from polhode.errors import ShapeError
 
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
 
-__all__ = ["Principal", "principal"]
+__all__ = ["Principal", "point_masses_inertia", "principal"]
 
 
 class Principal:
@@ -25,7 +27,8 @@ class Principal:
     Attributes
     ----------
     moments : (..., 3) numpy.ndarray
-        Principal moments, ascending.
+        Principal moments, ascending (except along a series followed with
+        ``principal(..., continuous=True)``, where they follow their axes).
     axes : (..., 3, 3) numpy.ndarray
         Principal axes as the columns of a proper rotation (det = +1): column k belongs to
         ``moments[..., k]`` and maps principal coordinates to body coordinates,
@@ -65,29 +68,303 @@ class Principal:
         )
 
 
-def principal(inertia: Any, rtol: float | None = None) -> Principal:
+def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = False) -> Principal:
     """Principal moments (ascending) and axes of one tensor (3, 3) or a batch (N, 3, 3).
 
     A backward-stable cyclic Jacobi eigensolve on the tensor shifted by trace/3, run in Rust on
     all cores with the GIL released. The tensor must be finite and symmetric (to 64 eps of its
     largest entry); it need not be a physical inertia tensor.
 
+    With ``continuous=True`` the batch is a series in time (T, 3, 3) (the frames of a
+    trajectory, e.g. from :func:`point_masses_inertia`), and the axes are followed from frame
+    to frame instead of being put in canonical form in each: frame 0 is canonical (ascending,
+    deterministic signs); every later frame takes the signed permutation of its axes closest to
+    the previous frame's (largest sum of ``|a_prev . a|``, signs making each dot product
+    positive; that match is always a proper rotation, so det = +1 is kept). The axes then
+    neither flip sign nor swap between consecutive frames of a smooth motion,
+    and go through a crossing of two moments by continuity: ``axes[t, :, k]`` stays the same
+    physical axis, and ``moments[t, k]`` and ``multiplicity[t, k]`` follow it, so the moments
+    are **no longer ascending** after a crossing (``np.sort(p.moments, axis=-1)`` gives them
+    ascending). In a frame whose moments are equal (``multiplicity`` > 1, within ``rtol``), the
+    degenerate subspace has no preferred axes: they are the orthonormal basis of that subspace
+    closest to the previous frame's axes (orthogonal Procrustes), so a symmetric top keeps its
+    transverse axes from frame to frame and a spherical frame keeps the previous axes. Frames
+    must be close enough that each axis moves less than about 45 degrees between them; the
+    matching is vectorised, and only degenerate frames are handled one by one.
+
     Parameters
     ----------
     inertia : (3, 3) or (N, 3, 3) array_like
-        Symmetric tensors.
+        Symmetric tensors; (T, 3, 3) with ``continuous=True``.
     rtol : float, optional
         Moments whose gap is at most ``rtol * ||inertia||_F`` count as equal (default 8 eps):
         they are returned equal, flagged in ``multiplicity``, with canonical axes. The residual
         ``||A V - V diag(w)||`` stays within 10 eps ||A|| at the default; a larger ``rtol``
         adds up to half of each merged gap to it.
+    continuous : bool, optional
+        Follow the axes along the series (default False: each tensor on its own, canonical).
 
     Returns
     -------
     Principal
         ``moments`` (3,) or (N, 3), ``axes`` (3, 3) or (N, 3, 3), ``multiplicity``.
+
+    Raises
+    ------
+    ShapeError
+        ``inertia`` not (3, 3) or (N, 3, 3); a single (3, 3) tensor with ``continuous=True``.
+    NonFiniteError, ArgumentError
+        Non-finite or asymmetric tensors (naming ``inertia[i]``), a negative ``rtol``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> p = ph.principal(np.diag([3.0, 1.0, 2.0]))
+    >>> p.moments
+    array([1., 2., 3.])
+
+    A body turning about z by 5 degrees per frame, its moments 1 and 2 crossing halfway:
+
+    >>> from scipy.spatial.transform import Rotation
+    >>> t = np.arange(40)
+    >>> turn = Rotation.from_rotvec(np.outer(np.radians(5.0) * t, [0, 0, 1])).as_matrix()
+    >>> a = np.linspace(1.0, 2.0, 40)
+    >>> d = np.zeros((40, 3, 3))
+    >>> d[:, 0, 0], d[:, 1, 1], d[:, 2, 2] = a, 3.0 - a, 4.0
+    >>> inertia = turn @ d @ turn.transpose(0, 2, 1)
+    >>> p = ph.principal(inertia, continuous=True)
+    >>> bool(np.allclose(p.axes, turn))         # the axes follow the rotation, no flip
+    True
+    >>> bool(np.allclose(p.moments[:, 0], a))   # axis 0 keeps its moment through the crossing
+    True
     """
+    if not isinstance(continuous, bool | np.bool_):
+        raise TypeError(f"Expected `continuous` to be a bool, got {type(continuous).__name__}.")
     array = as_float_array("inertia", inertia)
+    if continuous and array.shape == (3, 3):
+        raise ShapeError(
+            "Expected `inertia` to have shape (T, 3, 3) (a series) with continuous=True, "
+            "got (3, 3).",
+            argument="inertia",
+        )
     tolerance = None if rtol is None else as_scalar("rtol", rtol)
     moments, axes, multiplicity = _core.principal(array, tolerance)
+    if continuous:
+        moments, axes, multiplicity = _follow(moments, axes, multiplicity)
     return Principal(moments, axes, multiplicity)
+
+
+def point_masses_inertia(masses: Any, positions: Any) -> NDArray[np.float64]:
+    """Inertia tensors of the frames of a point-mass trajectory, each about its own centre of
+    mass.
+
+    The tensor of each frame, ``I = sum m (|r|^2 1 - r r^T)`` with ``r`` the offset from that
+    frame's centre of mass (products of inertia as tensor elements), computed in Rust on all
+    cores with the GIL released. Each frame is centred first (its centre of mass found relative
+    to its first point), so a molecule far from the origin keeps its digits; the sums are
+    plain double-precision sums (an element's error is about N eps of the largest moment), not
+    the square-root form of :meth:`Body.point_masses`, which one frame can use instead.
+    Single-precision positions (as MD trajectories store them) are read as they are, without a
+    converted copy; every float32 is exactly a double.
+
+    Feed the result to :func:`principal` with ``continuous=True`` for principal axes that do
+    not flip or swap between frames.
+
+    Parameters
+    ----------
+    masses : (N,) array_like
+        Positive masses, shared by every frame.
+    positions : (T, N, 3) or (N, 3) array_like
+        T frames of N points (float64 or float32), or one frame.
+
+    Returns
+    -------
+    (T, 3, 3) or (3, 3) numpy.ndarray
+        The inertia tensor of each frame about its centre of mass, in the frame's axes.
+
+    Raises
+    ------
+    ShapeError
+        ``positions`` not (T, N, 3) or (N, 3) with N = len(masses); no masses.
+    NonFiniteError, NonPositiveError
+        A non-finite position (naming ``positions[t, n, k]``), a mass that is not finite and
+        positive (``masses[n]``).
+    ArgumentError
+        A frame whose inertia overflows double precision.
+
+    Examples
+    --------
+    Carbon monoxide (12 u and 16 u, 1.128 angstrom apart) along z, then along x:
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> positions = [[[0, 0, 0], [0, 0, 1.128]], [[5, 0, 0], [6.128, 0, 0]]]
+    >>> inertia = ph.point_masses_inertia([12.0, 16.0], positions)
+    >>> inertia.shape
+    (2, 3, 3)
+    >>> mu = 12.0 * 16.0 / 28.0
+    >>> bool(np.allclose(np.diagonal(inertia, axis1=1, axis2=2),
+    ...                  [[mu * 1.128**2, mu * 1.128**2, 0], [0, mu * 1.128**2, mu * 1.128**2]]))
+    True
+
+    Principal axes over an MDAnalysis trajectory, without flips (``order="fac"`` gives
+    (frames, atoms, 3)):
+
+    >>> # atoms = universe.select_atoms("protein")
+    >>> # xyz = universe.trajectory.timeseries(atoms, order="fac")
+    >>> # p = ph.principal(ph.point_masses_inertia(atoms.masses, xyz), continuous=True)
+    """
+    m = as_array("masses", masses, (None,))
+    if isinstance(positions, np.ndarray) and positions.dtype == np.float32:
+        r: NDArray[Any] = np.ascontiguousarray(positions)
+    else:
+        r = as_float_array("positions", positions)
+    return _core.point_masses_inertia(m, r)
+
+
+# --- axes followed along a series -------------------------------------------------------------
+
+# The six permutations of three axes.
+_PERMUTATIONS = np.array([[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]])
+
+
+def _signed_permutations() -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
+    """The 48 signed permutations g = 8 p + (sign bits): for each, the permutation (48, 3),
+    the signs (48, 3), and the table of products ``table[g, h]`` = index of ``Q_g Q_h``.
+
+    ``Q_g`` acts on the columns of a matrix: column j of ``U Q_g`` is ``s_j U[:, p(j)]``.
+    """
+    perms = np.repeat(_PERMUTATIONS, 8, axis=0)
+    bits = np.arange(48) % 8
+    signs = np.where((bits[:, None] >> np.arange(3)) & 1, -1.0, 1.0)
+    q = np.zeros((48, 3, 3))
+    q[np.arange(48)[:, None], perms, np.arange(3)] = signs
+    products = np.einsum("gij,hjk->ghik", q, q).reshape(48 * 48, 9)
+    flat = q.reshape(48, 9)
+    # Each product is a signed permutation: find its index by its (exact, 0/+-1) entries.
+    keys = {tuple(row): g for g, row in enumerate(flat.tolist())}
+    table = np.array([keys[tuple(row)] for row in products.tolist()]).reshape(48, 48)
+    return perms, signs, table
+
+
+_PERMS, _SIGNS, _TABLE = _signed_permutations()
+
+
+def _match(reference: NDArray[np.float64], axes: NDArray[np.float64]) -> NDArray[np.int64]:
+    """For each pair (K, 3, 3) of proper rotations, the signed permutation g with
+    ``axes @ Q_g`` closest to ``reference``: the permutation maximising sum_j |r_j . a_p(j)|,
+    signs making each dot product >= 0.
+
+    The result is always proper (det Q_g = +1): it maximises tr(R^T A Q) over all 48 signed
+    permutations, an improper Q would make R^T A Q an improper orthogonal matrix, whose trace
+    is at most 1, while some proper Q (an element of the octahedral group, which comes within
+    about 63 degrees of any rotation) gives a trace of at least 1 + 2 cos(63 deg) > 1.9.
+    """
+    m = np.matmul(reference.transpose(0, 2, 1), axes)  # m[k, i, j] = r_i . a_j
+    rows = np.arange(3)
+    picked = m[:, rows, _PERMUTATIONS]  # (K, 6, 3): m[k, j, p(j)] for each permutation p
+    best = np.argmax(np.abs(picked).sum(axis=2), axis=1)
+    negative = picked[np.arange(len(m)), best] < 0  # (K, 3)
+    bits = (negative * (1 << rows)).sum(axis=1)
+    return best * 8 + bits
+
+
+def _compose_prefix(first: int, steps: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The products ``P_0 = first``, ``P_t = Q_t P_(t-1)`` for ``steps`` = Q_1 .. Q_K: a
+    Hillis-Steele scan of log2(K) vectorised table lookups."""
+    x = np.concatenate([[first], steps]).astype(np.int64)
+    d = 1
+    while d < len(x):
+        x = np.concatenate([x[:d], _TABLE[x[d:], x[:-d]]])
+        d *= 2
+    return x
+
+
+def _apply(
+    moments: NDArray[np.float64],
+    axes: NDArray[np.float64],
+    multiplicity: NDArray[np.int64],
+    g: NDArray[np.int64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """Columns permuted and signed by the signed permutations ``g`` (one per frame)."""
+    perm = _PERMS[g]
+    signs = _SIGNS[g]
+    new_axes = np.take_along_axis(axes, perm[:, None, :], axis=2) * signs[:, None, :]
+    return (
+        np.take_along_axis(moments, perm, axis=1),
+        new_axes,
+        np.take_along_axis(multiplicity, perm, axis=1),
+    )
+
+
+def _procrustes(
+    moments: NDArray[np.float64],
+    axes: NDArray[np.float64],
+    multiplicity: NDArray[np.int64],
+    previous: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """One degenerate frame's axes closest to ``previous``: each group of equal moments spans a
+    subspace; the slots (previous axes) go to the groups by the permutation with the largest
+    projected energy, and each group's basis is the orthonormal one closest to its slots'
+    previous axes (the orthogonal polar factor of ``U_G^T W_J``).
+
+    The result is proper: it maximises tr(W_prev^T W) over the bases adapted to the groups with
+    that assignment, and among them is the rotation of W_prev that turns its axis nearest the
+    line of a single moment onto that line (by at most 54.7 degrees, so a trace above 2), while
+    an improper W would have a trace of at most 1. (Three equal moments give W = W_prev.)
+    """
+    groups = [np.flatnonzero(moments == value) for value in np.unique(moments)]
+    group_of = np.empty(3, dtype=np.int64)
+    for k, members in enumerate(groups):
+        group_of[members] = k
+    energy = np.array(
+        [
+            [float(np.sum((axes[:, members].T @ previous[:, j]) ** 2)) for members in groups]
+            for j in range(3)
+        ]
+    )  # energy[j, k]: how much of previous axis j lies in group k's subspace
+    scores = energy[np.arange(3), group_of[_PERMUTATIONS]].sum(axis=1)
+    perm = _PERMUTATIONS[int(np.argmax(scores))]
+    new_axes = np.empty((3, 3))
+    for k, members in enumerate(groups):
+        slots = np.flatnonzero(group_of[perm] == k)
+        basis = axes[:, members]
+        u, _, vt = np.linalg.svd(basis.T @ previous[:, slots])
+        new_axes[:, slots] = basis @ (u @ vt)
+    return moments[perm], new_axes, multiplicity[perm]
+
+
+def _follow(
+    moments: NDArray[np.float64],
+    axes: NDArray[np.float64],
+    multiplicity: NDArray[np.int64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """The canonical principal frames of a series re-signed and re-ordered to follow frame 0."""
+    count = len(axes)
+    if count < 2:
+        return moments, axes, multiplicity
+    # Relative matches of consecutive canonical frames, all at once.
+    steps = _match(axes[:-1], axes[1:])
+    degenerate = np.flatnonzero((multiplicity[1:] > 1).any(axis=1)) + 1
+    out_m = np.empty_like(moments)
+    out_a = np.empty_like(axes)
+    out_u = np.empty_like(multiplicity)
+    out_m[0], out_a[0], out_u[0] = moments[0], axes[0], multiplicity[0]
+    start = 1
+    for stop in [*degenerate.tolist(), count]:
+        # Frames start .. stop-1 have distinct moments: frame `start` is matched to the frame
+        # before it as it was output, the rest through the relative matches.
+        if stop > start:
+            first = int(_match(out_a[start - 1 : start], axes[start : start + 1])[0])
+            g = _compose_prefix(first, steps[start : stop - 1])
+            span = slice(start, stop)
+            out_m[span], out_a[span], out_u[span] = _apply(
+                moments[span], axes[span], multiplicity[span], g
+            )
+        if stop < count:
+            out_m[stop], out_a[stop], out_u[stop] = _procrustes(
+                moments[stop], axes[stop], multiplicity[stop], out_a[stop - 1]
+            )
+        start = stop + 1
+    return out_m, out_a, out_u

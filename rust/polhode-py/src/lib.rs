@@ -6,6 +6,7 @@
 
 mod convert;
 mod errors;
+mod frames;
 mod mass;
 mod motion;
 mod torque;
@@ -15,6 +16,9 @@ mod watch;
 #[pyo3::pymodule]
 mod _core {
     use pyo3::prelude::*;
+
+    #[pymodule_export]
+    use crate::frames::point_masses_inertia;
 
     #[pymodule_export]
     use crate::mass::{principal, PyMassProperties};

@@ -7,10 +7,14 @@
 //! Numerics).
 
 mod factor;
+mod frames;
 mod mesh;
 mod points;
 mod solids;
 
+pub use frames::{
+    point_masses_inertia, point_masses_inertia_monitored, Position, FRAME_POINTS_CHUNK,
+};
 pub use points::POINT_CHUNK;
 pub use solids::{Solid, SOLIDS};
 
