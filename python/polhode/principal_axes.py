@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_float_array, as_scalar
+from polhode.errors import PolhodeError
 
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
@@ -86,8 +87,20 @@ def principal(inertia: Any, rtol: float | None = None) -> Principal:
     -------
     Principal
         ``moments`` (3,) or (N, 3), ``axes`` (3, 3) or (N, 3, 3), ``multiplicity``.
+
+    Raises
+    ------
+    PolhodeError
+        For a bad tensor (not finite, not symmetric, moments beyond the largest double),
+        ``argument="inertia"`` and, in a batch, ``body`` the index of the first bad one.
     """
     array = as_float_array("inertia", inertia)
     tolerance = None if rtol is None else as_scalar("rtol", rtol)
-    moments, axes, multiplicity = _core.principal(array, tolerance)
+    try:
+        moments, axes, multiplicity = _core.principal(array, tolerance)
+    except PolhodeError as error:
+        # The core solves one tensor as a batch of one: its error is about no batch's body.
+        if array.ndim == 2 and error.body is not None:
+            raise error.for_body(None) from None
+        raise
     return Principal(moments, axes, multiplicity)
