@@ -1045,6 +1045,27 @@ val(area, "progress callback gets [0, 1]",
     lambda seen: (assert_true(seen and seen[-1] == 1.0 and all(0 <= f <= 1 for f in seen)
                               and seen == sorted(seen), seen)),
     "the documented contract: fractions in [0, 1], non-decreasing, 1.0 at the end")
+def _first_run_in_a_fresh_process():
+    import subprocess
+
+    code = (
+        "import sys, polhode as ph\n"
+        "sol = ph.simulate([1.0, 2.0, 3.0], [0.3, 1.0, -0.4], [0.0, 1.0],"
+        " orientation0=[0.0, 0.0, 0.6, 0.8])\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] == 'scipy'))\n"
+        "print(sol.quaternion[0].tolist())\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120, check=True)
+    return done.stdout.splitlines()
+
+
+val(area, "orientation0 as a quaternion: no scipy import in the run (issue 13, wall_time)",
+    _first_run_in_a_fresh_process,
+    lambda lines: (assert_true(lines[0] == "[]", lines[0]),
+                   close([float(x) for x in lines[1].strip("[]").split(",")],
+                         [0.0, 0.0, 0.6, 0.8], 4 * EPS)),
+    "sys.modules of a fresh process; q(t0) = the quaternion given")
 val(area, "auto with a torque is dop853",
     lambda: ph.simulate((2.0, 2.0, 2.0), W, TIMES, torque=ph.torque.BodyFixed([0.0, 0.0, 1.0])),
     lambda sol: (assert_true(sol.stats["method"] == "dop853", sol.stats["method"]),
@@ -1348,6 +1369,12 @@ val(area, "BodyFixed 1e150 from rest (omega only)",
     lambda: ph.simulate(SPHERE2, [0.0, 0.0, 0.0], TIMES, torque=TQ.BodyFixed([0.0, 0.0, 1e150]),
                         orientation=False),
     lambda sol: close(sol.omega[:, 2], TIMES * 0.5e150, 1e-12, what="omega_z"), "tau t / I")
+for _method, _kw in [("dop853", {}), ("rk4", {"dt": 0.05}), ("splitting", {"dt": 0.05})]:
+    err(area, f"BodyFixed 1e154 drives T beyond doubles ({_method})",
+        lambda m=_method, k=_kw: ph.simulate((0.05, 0.05, 0.05), [0.0, 0.0, 0.0], [0.0, 0.5],
+                                             method=m, torque=TQ.BodyFixed([0.0, 0.0, 1e154]),
+                                             orientation=False, **k),
+        ph.NonFiniteError, "t", fragment="`energy`")
 val(area, "BodyFixed 1e-300", lambda: ph.simulate(SPHERE2, W, TIMES, method="rk4", dt=0.1,
                                                   torque=TQ.BodyFixed([0.0, 0.0, 1e-300])),
     sphere_torque_check(lambda t: np.zeros(3), bound=4 * EPS), "omega0 (+ 1e-300: below ulp)")

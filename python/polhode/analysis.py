@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -70,6 +72,22 @@ class Analysis:
     precession_rate: float | None
     axis_stability: tuple[str, str, str]
     linearized: dict[str, Any] = field(default_factory=dict)
+
+
+def _rate(what: str, value: Fraction | float) -> float:
+    """A rate of the analysis as a double, or an ArgumentError naming ``body`` when it lies
+    beyond the largest double (moments spanning more than the range of doubles)."""
+    try:
+        result = float(value)
+    except OverflowError:
+        result = math.inf
+    if not math.isfinite(result):
+        raise ArgumentError(
+            f"Invalid `body`: {what} of this motion overflows double precision (the moments "
+            "span more than the range of doubles).",
+            argument="body",
+        )
+    return result
 
 
 #: The regime of a motion about the axis of the smallest or the largest moment, by axis index.
@@ -161,7 +179,11 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     if equal[0] != equal[1]:
         s = 2 if equal[0] else 0  # the symmetry axis: the distinct moment
         t = 1
-        precession = float(omega[s] * (moments[s] - moments[t]) / moments[t])
+        precession = _rate(
+            "the precession rate w_s (I_s - I_t) / I_t",
+            Fraction(float(omega[s])) * (Fraction(float(moments[s])) - Fraction(float(moments[t])))
+            / Fraction(float(moments[t])),
+        )
     if equal[0] and equal[1]:
         stability: tuple[str, str, str] = ("neutral", "neutral", "neutral")
     elif equal[0]:
@@ -173,13 +195,24 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     k = int(np.argmax(np.abs(omega)))
     a, b = [j for j in range(3) if j != k]
     w = float(omega[k])
-    omega_a = w * (moments[k] - moments[b]) / moments[a]
-    omega_b = w * (moments[k] - moments[a]) / moments[b]
-    product = omega_a * omega_b
+    ma, mb, mk = (float(moments[j]) for j in (a, b, k))
+    # Omega_a Omega_b = w^2 (I_k - I_b) (I_k - I_a) / (I_a I_b), and the rate its square root:
+    # in doubles when the product is one (moments within 1e308 of each other), else from the
+    # two square roots apart; a rate beyond the largest double is an error, not inf.
+    with np.errstate(over="ignore", invalid="ignore"):
+        product = (w * (mk - mb) / ma) * (w * (mk - ma) / mb)
+    if math.isfinite(product):
+        rate = math.sqrt(abs(product))
+    else:
+        rate = abs(w) * (math.sqrt(abs(mk - mb)) / math.sqrt(ma)) * (
+            math.sqrt(abs(mk - ma)) / math.sqrt(mb)
+        )
+    rate = _rate("the linearized rate sqrt(|Omega_a Omega_b|)", rate)
+    growth = w != 0.0 and (mk - mb < 0.0 < mk - ma or mk - ma < 0.0 < mk - mb)
     linearized = {
         "axis": k,
-        "kind": "oscillation" if product >= 0 else "growth",
-        "rate": float(np.sqrt(abs(product))),
+        "kind": "growth" if growth else "oscillation",
+        "rate": rate,
     }
     return Analysis(
         moments=moments,
