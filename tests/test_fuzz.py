@@ -10,9 +10,11 @@ infinity in the output of a finite input fails the test.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import io
 import math
+import shutil
 import tempfile
 from typing import Any
 
@@ -534,6 +536,7 @@ def command_lines(draw, folder):
 
 
 _CLI_FOLDER = tempfile.mkdtemp(prefix="polhode-fuzz-cli-")
+atexit.register(shutil.rmtree, _CLI_FOLDER, ignore_errors=True)
 
 
 @FUZZ
