@@ -140,6 +140,31 @@ def test_solid_matches_closed_form(name, mass, params):
     )
 
 
+def test_every_solid_of_the_core_is_built_by_name_against_its_closed_form():
+    # The core's table is the one list of solids (Body's constructors, Body.solid and the CLI
+    # read it): each kind has a case above, and built by keyword from the table's parameter
+    # names it equals the independent closed form.
+    assert set(ph._core.SOLIDS) - {"point"} == {name for name, _, _ in SOLID_CASES}
+    for name, mass, params in SOLID_CASES:
+        names = [parameter for parameter, _ in ph._core.SOLIDS[name]]
+        body = ph.Body.solid(name, mass, **dict(zip(names, params, strict=True)))
+        closed = ref.SOLIDS[name](mass, *params)
+        assert_close_normwise(body.inertia, closed.inertia, 1e-14, what=name)
+    point = ph.Body.solid("point", 2.5)
+    assert point.mass == 2.5
+    assert not np.any(point.inertia)
+    with pytest.raises(ph.errors.ArgumentError, match="one of point, sphere") as error:
+        ph.Body.solid("blob", 1.0)
+    assert error.value.argument == "kind"
+    with pytest.raises(TypeError, match="takes radius, length; got height"):
+        ph.Body.solid("cone", 1.0, radius=1.0, height=2.0)
+    with pytest.raises(TypeError, match="needs `length`"):
+        ph.Body.solid("cone", 1.0, radius=1.0)
+    with pytest.raises(ph.errors.ShapeError) as shape:
+        ph.Body.solid("cuboid", 1.0, size=[1.0, 2.0])
+    assert shape.value.argument == "size"
+
+
 @pytest.mark.parametrize(("name", "mass", "params"), SOLID_CASES, ids=SOLID_IDS)
 def test_solid_matches_its_quadrature_point_cloud(name, mass, params):
     # polhode's own point-mass path on the exact quadrature cloud must reproduce polhode's solid.

@@ -7,12 +7,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "METHODS",
+    "SOLIDS",
     "MassProperties",
     "check_torque",
     "free_rotation",
     "principal",
     "simulate",
 ]
+
+METHODS: dict[str, str]
+SOLIDS: dict[str, tuple[tuple[str, int], ...]]
 
 @final
 class MassProperties:
@@ -30,31 +35,9 @@ class MassProperties:
         fix_winding: bool = False,
     ) -> MassProperties: ...
     @staticmethod
-    def point(mass: float) -> MassProperties: ...
-    @staticmethod
-    def sphere(mass: float, radius: float) -> MassProperties: ...
-    @staticmethod
-    def spherical_shell(mass: float, radius: float) -> MassProperties: ...
-    @staticmethod
-    def cuboid(mass: float, size: NDArray[np.float64]) -> MassProperties: ...
-    @staticmethod
-    def cylinder(mass: float, radius: float, length: float) -> MassProperties: ...
-    @staticmethod
-    def tube(
-        mass: float, inner_radius: float, outer_radius: float, length: float
+    def solid(
+        kind: str, mass: float, **parameters: float | NDArray[np.float64]
     ) -> MassProperties: ...
-    @staticmethod
-    def cone(mass: float, radius: float, length: float) -> MassProperties: ...
-    @staticmethod
-    def ellipsoid(mass: float, semi_axes: NDArray[np.float64]) -> MassProperties: ...
-    @staticmethod
-    def rod(mass: float, length: float) -> MassProperties: ...
-    @staticmethod
-    def disk(mass: float, radius: float) -> MassProperties: ...
-    @staticmethod
-    def torus(mass: float, major_radius: float, minor_radius: float) -> MassProperties: ...
-    @staticmethod
-    def capsule(mass: float, radius: float, length: float) -> MassProperties: ...
     @staticmethod
     def from_inertia(
         mass: float, inertia: NDArray[np.float64], center_of_mass: NDArray[np.float64]

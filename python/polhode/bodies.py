@@ -183,97 +183,96 @@ class Body:
         return cls.mesh(vertices, faces, density, mass, shell, fix_winding)
 
     @classmethod
+    def solid(cls, kind: str, mass: float, **parameters: Any) -> Body:
+        """The analytic solid named ``kind`` by its parameters: ``Body.solid("cylinder", 1.0,
+        radius=0.1, length=0.5)`` is ``Body.cylinder(1.0, 0.1, 0.5)``.
+
+        The kinds and their parameters (each a number, or a vector along x, y, z of three) are
+        those of the named constructors below, and ``"point"`` (no parameters: a point mass at
+        the origin). An unknown kind is an ``ArgumentError`` naming ``kind`` and the kinds there
+        are; a missing or unknown parameter is a ``TypeError``.
+
+        Examples
+        --------
+        >>> import polhode as ph
+        >>> ph.Body.solid("sphere", 2.0, radius=0.5).inertia[0, 0]  # 2/5 m r^2
+        0.2
+        """
+        if not isinstance(kind, str):
+            raise TypeError(f"Expected `kind` to be a string, got {type(kind).__name__}.")
+        table = _core.SOLIDS.get(kind)
+        if table is None:  # the core's error names the kinds it knows
+            return cls(_core.MassProperties.solid(kind, as_scalar("mass", mass)))
+        values = {
+            name: as_scalar(name, parameters[name])
+            if width == 1
+            else as_array(name, parameters[name], (width,))
+            for name, width in table
+            if name in parameters
+        }
+        unknown = sorted(set(parameters) - set(values))
+        if unknown:
+            takes = ", ".join(name for name, _ in table) or "no parameters"
+            raise TypeError(f"Body.solid: a {kind} takes {takes}; got {', '.join(unknown)}.")
+        return cls(_core.MassProperties.solid(kind, as_scalar("mass", mass), **values))
+
+    @classmethod
     def sphere(cls, mass: float, radius: float) -> Body:
         """A solid sphere: I = 2/5 m r^2."""
-        return cls(
-            _core.MassProperties.sphere(as_scalar("mass", mass), as_scalar("radius", radius))
-        )
+        return cls.solid("sphere", mass, radius=radius)
 
     @classmethod
     def spherical_shell(cls, mass: float, radius: float) -> Body:
         """A thin spherical shell: I = 2/3 m r^2."""
-        return cls(
-            _core.MassProperties.spherical_shell(
-                as_scalar("mass", mass), as_scalar("radius", radius)
-            )
-        )
+        return cls.solid("spherical_shell", mass, radius=radius)
 
     @classmethod
     def cuboid(cls, mass: float, size: Any) -> Body:
         """A solid cuboid (a box) with full edge lengths ``size`` = (a, b, c) along x, y, z."""
-        return cls(
-            _core.MassProperties.cuboid(as_scalar("mass", mass), as_array("size", size, (3,)))
-        )
+        return cls.solid("cuboid", mass, size=size)
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, length: float) -> Body:
         """A solid cylinder along z: I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
-        return cls(
-            _core.MassProperties.cylinder(
-                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
-            )
-        )
+        return cls.solid("cylinder", mass, radius=radius, length=length)
 
     @classmethod
     def tube(cls, mass: float, inner_radius: float, outer_radius: float, length: float) -> Body:
         """A thick-walled tube along z: I_z = m (r1^2 + r2^2)/2."""
-        return cls(
-            _core.MassProperties.tube(
-                as_scalar("mass", mass),
-                as_scalar("inner_radius", inner_radius),
-                as_scalar("outer_radius", outer_radius),
-                as_scalar("length", length),
-            )
+        return cls.solid(
+            "tube", mass, inner_radius=inner_radius, outer_radius=outer_radius, length=length
         )
 
     @classmethod
     def cone(cls, mass: float, radius: float, length: float) -> Body:
         """A solid cone along z: base disc in the plane z = 0, apex at z = length (centre of
         mass at length/4)."""
-        return cls(
-            _core.MassProperties.cone(
-                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
-            )
-        )
+        return cls.solid("cone", mass, radius=radius, length=length)
 
     @classmethod
     def ellipsoid(cls, mass: float, semi_axes: Any) -> Body:
         """A solid ellipsoid with semi-axes (a, b, c): I_x = m (b^2 + c^2)/5."""
-        return cls(
-            _core.MassProperties.ellipsoid(
-                as_scalar("mass", mass), as_array("semi_axes", semi_axes, (3,))
-            )
-        )
+        return cls.solid("ellipsoid", mass, semi_axes=semi_axes)
 
     @classmethod
     def rod(cls, mass: float, length: float) -> Body:
         """A thin rod along z: I_x = I_y = m L^2/12, I_z = 0."""
-        return cls(_core.MassProperties.rod(as_scalar("mass", mass), as_scalar("length", length)))
+        return cls.solid("rod", mass, length=length)
 
     @classmethod
     def disk(cls, mass: float, radius: float) -> Body:
         """A thin disc in the xy plane: I_z = m r^2/2, I_x = I_y = m r^2/4."""
-        return cls(_core.MassProperties.disk(as_scalar("mass", mass), as_scalar("radius", radius)))
+        return cls.solid("disk", mass, radius=radius)
 
     @classmethod
     def torus(cls, mass: float, major_radius: float, minor_radius: float) -> Body:
         """A solid torus about z: I_z = m (R^2 + 3 a^2/4), I_x = m (R^2/2 + 5 a^2/8)."""
-        return cls(
-            _core.MassProperties.torus(
-                as_scalar("mass", mass),
-                as_scalar("major_radius", major_radius),
-                as_scalar("minor_radius", minor_radius),
-            )
-        )
+        return cls.solid("torus", mass, major_radius=major_radius, minor_radius=minor_radius)
 
     @classmethod
     def capsule(cls, mass: float, radius: float, length: float) -> Body:
         """A cylinder of ``length`` along z capped by two hemispheres of ``radius``."""
-        return cls(
-            _core.MassProperties.capsule(
-                as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
-            )
-        )
+        return cls.solid("capsule", mass, radius=radius, length=length)
 
     @classmethod
     def from_inertia(cls, mass: float, inertia: Any, center_of_mass: Any = (0.0, 0.0, 0.0)) -> Body:

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 import polhode as ph
+from polhode import _core
 from polhode.invariants import max_relative_drift
 
 __all__ = ["main"]
@@ -140,21 +141,17 @@ def _flip_demo() -> None:
         )
 
 
+#: The solids ``--body`` takes and their keys, from the core's table: ``mass``, then each
+#: parameter, a vector one (a cuboid's size, an ellipsoid's semi-axes) as its x, y, z
+#: components ``a b c``.
 SOLIDS = {
-    "sphere": ("mass", "radius"),
-    "spherical_shell": ("mass", "radius"),
-    "cuboid": ("mass", "a", "b", "c"),
-    "cylinder": ("mass", "radius", "length"),
-    "tube": ("mass", "inner_radius", "outer_radius", "length"),
-    "cone": ("mass", "radius", "length"),
-    "ellipsoid": ("mass", "a", "b", "c"),
-    "torus": ("mass", "major_radius", "minor_radius"),
-    "capsule": ("mass", "radius", "length"),
+    kind: ("mass", *(n for name, width in p for n in ((name,) if width == 1 else ("a", "b", "c"))))
+    for kind, p in _core.SOLIDS.items()
 }
 
 #: The methods that take a fixed step ``--dt``; ``--order`` is the splitting's, ``--rtol``
 #: dop853's.
-FIXED_STEP = ("splitting", "midpoint", "rk4")
+FIXED_STEP = tuple(name for name, stepping in _core.METHODS.items() if stepping == "fixed")
 
 #: At most this many output times (the trajectory, 8 numbers a time, is kept in memory).
 MAX_POINTS = 10_000_000
@@ -183,11 +180,11 @@ def _solid(words: list[str]) -> ph.Body:
     missing = [n for n in expected if n not in values]
     if missing:
         raise UsageError("--body", f"missing {', '.join(missing)}; {takes}.")
-    args = [values[n] for n in expected]
+    parameters: dict[str, Any] = {}
+    for name, width in _core.SOLIDS[kind]:
+        parameters[name] = values[name] if width == 1 else [values[k] for k in ("a", "b", "c")]
     try:
-        if kind in ("cuboid", "ellipsoid"):
-            return getattr(ph.Body, kind)(args[0], args[1:])
-        return getattr(ph.Body, kind)(*args)
+        return ph.Body.solid(kind, values["mass"], **parameters)
     except ph.PolhodeError as error:
         raise UsageError("--body", f"{kind}: {error}") from None
 
@@ -465,7 +462,7 @@ def _parser() -> argparse.ArgumentParser:
     spin.add_argument(
         "--dt",
         type=_number("a positive finite step", positive=True),
-        help="step of the fixed-step methods (splitting, midpoint, rk4; required by them)",
+        help=f"step of the fixed-step methods ({', '.join(FIXED_STEP)}; required by them)",
     )
     spin.add_argument(
         "--order", type=int, choices=(2, 4, 6), help="order of --method splitting (default 4)"

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 __all__ = ["Trajectory", "simulate"]
 
 #: The methods of :func:`simulate` (the core parses the name).
-METHODS = ("auto", "exact", "splitting", "midpoint", "rk4", "dop853")
+METHODS = tuple(_core.METHODS)
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,8 @@ mod watch;
 /// The compiled core of polhode. Use the `polhode` package, not this module.
 #[pyo3::pymodule]
 mod _core {
+    use pyo3::prelude::*;
+
     #[pymodule_export]
     use crate::mass::{principal, PyMassProperties};
 
@@ -22,4 +24,10 @@ mod _core {
 
     #[pymodule_export]
     use crate::torque::check_torque;
+
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        m.add("SOLIDS", crate::mass::solids(m.py())?)?;
+        m.add("METHODS", crate::motion::methods(m.py())?)
+    }
 }

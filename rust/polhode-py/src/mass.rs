@@ -6,8 +6,11 @@ use numpy::{
     PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use polhode::dynamics::Monitor;
+use polhode::mass::SOLIDS;
 use polhode::MassProperties;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py};
 use crate::errors::{CoreError, CoreResult};
@@ -155,72 +158,41 @@ impl PyMassProperties {
         })?)
     }
 
+    /// The analytic solid `kind` (a row of the core's `SOLIDS`) of `mass`, its parameters by
+    /// name: a float for a width of 1, a (3,) float64 array for a width of 3.
     #[staticmethod]
-    fn point(mass: f64) -> CoreResult<Self> {
-        wrap(MassProperties::point(mass))
-    }
-
-    #[staticmethod]
-    fn sphere(mass: f64, radius: f64) -> CoreResult<Self> {
-        wrap(MassProperties::sphere(mass, radius))
-    }
-
-    #[staticmethod]
-    fn spherical_shell(mass: f64, radius: f64) -> CoreResult<Self> {
-        wrap(MassProperties::spherical_shell(mass, radius))
-    }
-
-    #[staticmethod]
-    fn cuboid(mass: f64, size: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
-        Ok(wrap(MassProperties::cuboid(mass, vector3("size", &size)?))?)
-    }
-
-    #[staticmethod]
-    fn cylinder(mass: f64, radius: f64, length: f64) -> CoreResult<Self> {
-        wrap(MassProperties::cylinder(mass, radius, length))
-    }
-
-    #[staticmethod]
-    fn tube(mass: f64, inner_radius: f64, outer_radius: f64, length: f64) -> CoreResult<Self> {
-        wrap(MassProperties::tube(
-            mass,
-            inner_radius,
-            outer_radius,
-            length,
-        ))
-    }
-
-    #[staticmethod]
-    fn cone(mass: f64, radius: f64, length: f64) -> CoreResult<Self> {
-        wrap(MassProperties::cone(mass, radius, length))
-    }
-
-    #[staticmethod]
-    fn ellipsoid(mass: f64, semi_axes: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
-        Ok(wrap(MassProperties::ellipsoid(
-            mass,
-            vector3("semi_axes", &semi_axes)?,
-        ))?)
-    }
-
-    #[staticmethod]
-    fn rod(mass: f64, length: f64) -> CoreResult<Self> {
-        wrap(MassProperties::rod(mass, length))
-    }
-
-    #[staticmethod]
-    fn disk(mass: f64, radius: f64) -> CoreResult<Self> {
-        wrap(MassProperties::disk(mass, radius))
-    }
-
-    #[staticmethod]
-    fn torus(mass: f64, major_radius: f64, minor_radius: f64) -> CoreResult<Self> {
-        wrap(MassProperties::torus(mass, major_radius, minor_radius))
-    }
-
-    #[staticmethod]
-    fn capsule(mass: f64, radius: f64, length: f64) -> CoreResult<Self> {
-        wrap(MassProperties::capsule(mass, radius, length))
+    #[pyo3(signature = (kind, mass, **parameters))]
+    fn solid(kind: &str, mass: f64, parameters: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let Some(solid) = SOLIDS.iter().find(|s| s.name == kind) else {
+            return Ok(wrap(MassProperties::solid(kind, mass, &[]))?);
+        };
+        let given = parameters.map_or(0, |p| p.len());
+        let mut values = Vec::with_capacity(3 * solid.parameters.len());
+        for &(name, width) in solid.parameters {
+            let Some(value) = parameters.map(|p| p.get_item(name)).transpose()?.flatten() else {
+                return Err(PyTypeError::new_err(format!(
+                    "solid(): a {kind} needs `{name}`."
+                )));
+            };
+            if width == 1 {
+                values.push(value.extract::<f64>()?);
+            } else {
+                let array: PyReadonlyArray1<'_, f64> = value.extract()?;
+                values.extend_from_slice(vector3(name, &array)?.as_slice());
+            }
+        }
+        if given != solid.parameters.len() {
+            let names: Vec<&str> = solid.parameters.iter().map(|&(n, _)| n).collect();
+            return Err(PyTypeError::new_err(format!(
+                "solid(): a {kind} takes {}; got {given} parameters.",
+                if names.is_empty() {
+                    "no parameters".into()
+                } else {
+                    names.join(", ")
+                }
+            )));
+        }
+        Ok(wrap(MassProperties::solid(kind, mass, &values))?)
     }
 
     #[staticmethod]
@@ -433,4 +405,17 @@ pub fn principal<'py>(
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
         .into_pyarray(py);
     Ok((to_py(moments, moments_shape)?, to_py(axes, axes_shape)?, m))
+}
+
+/// The analytic solids, `{name: ((parameter, width), ...)}` in the core's order: what
+/// `polhode.Body`'s constructors and the command line read.
+pub fn solids(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let table = PyDict::new(py);
+    for solid in SOLIDS {
+        table.set_item(
+            solid.name,
+            PyTuple::new(py, solid.parameters.iter().copied())?,
+        )?;
+    }
+    Ok(table)
 }

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use numpy::ndarray::ArrayD;
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use polhode::dynamics::{Dop853Options, Method, Monitor, SplittingOrder};
+use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::simulation::{
     orientation_from_matrix, orientation_from_quaternion, Body, Outputs, Simulation,
@@ -130,73 +130,6 @@ fn orientations(
     }
 }
 
-fn parse_method(
-    method: &str,
-    torque: bool,
-    dt: Option<f64>,
-    order: i64,
-    rtol: f64,
-    atol: Option<f64>,
-) -> PyResult<Method> {
-    let need_dt = || -> PyResult<f64> {
-        dt.ok_or_else(|| {
-            argument_error(
-                "dt",
-                &format!("expected `dt` (the largest step) for method {method:?}, got None."),
-            )
-        })
-    };
-    Ok(match method {
-        "auto" if torque => Method::Dop853(Dop853Options {
-            rtol,
-            atol,
-            ..Dop853Options::default()
-        }),
-        "auto" | "exact" => Method::Exact,
-        "splitting" => Method::Splitting {
-            dt: need_dt()?,
-            order: match order {
-                2 => SplittingOrder::Two,
-                4 => SplittingOrder::Four,
-                6 => SplittingOrder::Six,
-                other => {
-                    return Err(argument_error(
-                        "order",
-                        &format!("expected 2, 4 or 6 for method \"splitting\", got {other}."),
-                    ))
-                }
-            },
-        },
-        "midpoint" => Method::Midpoint { dt: need_dt()? },
-        "rk4" => Method::Rk4 { dt: need_dt()? },
-        "dop853" => Method::Dop853(Dop853Options {
-            rtol,
-            atol,
-            ..Dop853Options::default()
-        }),
-        other => {
-            return Err(argument_error(
-                "method",
-                &format!(
-                    "expected one of \"auto\", \"exact\", \"splitting\", \"midpoint\", \"rk4\", \
-                     \"dop853\", got {other:?}."
-                ),
-            ))
-        }
-    })
-}
-
-/// The name of the method run, as `Trajectory.stats["method"]` says it.
-fn method_name(method: &Method) -> &'static str {
-    match method {
-        Method::Exact => "exact",
-        Method::Splitting { .. } => "splitting",
-        Method::Midpoint { .. } => "midpoint",
-        Method::Rk4 { .. } => "rk4",
-        Method::Dop853(_) => "dop853",
-    }
-}
-
 /// Integrates one body (`omega0` of shape (3,)) or N bodies (`omega0` (N, 3)): see
 /// `polhode.simulate`. Returns a dict of the outputs by name, a single body without the
 /// leading N: every quantity of `polhode::simulation::Quantity` present (those needing the
@@ -252,7 +185,14 @@ pub fn simulate<'py>(
         .as_ref()
         .map(|t| torque_spec(t, &raised))
         .transpose()?;
-    let method = parse_method(method, spec.is_some(), dt, order, rtol, atol)?;
+    let settings = MethodSettings {
+        dt,
+        order,
+        rtol,
+        atol,
+        torque: spec.is_some(),
+    };
+    let method = Method::from_name(method, &settings).map_err(CoreError)?;
     if max_steps < 1 {
         return Err(argument_error(
             "max_steps",
@@ -313,7 +253,7 @@ pub fn simulate<'py>(
     if let Some(progress) = &watch.progress {
         progress.call1(py, (1.0,))?;
     }
-    to_dict(py, outputs, n.is_none(), method_name(&run.method))
+    to_dict(py, outputs, n.is_none(), run.method.name())
 }
 
 /// The outputs by name; a single body drops the leading N.
@@ -393,4 +333,14 @@ pub fn free_rotation<'py>(
     out.set_item("energy", free.energy())?;
     out.set_item("angular_momentum_norm", free.angular_momentum_norm())?;
     Ok(out)
+}
+
+/// The methods by name and how each steps (`"auto"`, `"exact"`, `"fixed"`, `"adaptive"`), in
+/// the core's order: what `polhode.simulate` and the command line offer.
+pub fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let table = PyDict::new(py);
+    for (name, stepping) in METHODS {
+        table.set_item(name, stepping.name())?;
+    }
+    Ok(table)
 }

@@ -4,7 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use nalgebra::{UnitQuaternion, Vector3};
-use polhode::dynamics::{FunctionSpec, TorqueSpec};
+use polhode::dynamics::{Fields, FunctionSpec, TorqueSpec};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
@@ -13,18 +13,36 @@ use crate::errors::CoreError;
 /// The first Python exception raised by a torque function, kept to re-raise as it was.
 pub(crate) type Raised = Arc<Mutex<Option<PyErr>>>;
 
-fn vector(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vector3<f64>> {
-    let v: [f64; 3] = obj.getattr(name)?.extract()?;
-    Ok(Vector3::from(v))
+/// A `polhode.torque` model's fields, read by name for the core.
+struct PyFields<'a, 'py> {
+    obj: &'a Bound<'py, PyAny>,
+    raised: &'a Raised,
 }
 
-fn optional_vector(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<Vector3<f64>>> {
-    let value = obj.getattr(name)?;
-    if value.is_none() {
-        return Ok(None);
+impl Fields for PyFields<'_, '_> {
+    type Error = PyErr;
+
+    fn error(error: polhode::Error) -> PyErr {
+        CoreError(error).into()
     }
-    let v: [f64; 3] = value.extract()?;
-    Ok(Some(Vector3::from(v)))
+
+    fn number(&self, name: &str) -> PyResult<Option<f64>> {
+        self.obj.getattr(name)?.extract()
+    }
+
+    fn vector(&self, name: &str) -> PyResult<Option<Vector3<f64>>> {
+        let value: Option<[f64; 3]> = self.obj.getattr(name)?.extract()?;
+        Ok(value.map(Vector3::from))
+    }
+
+    fn model(&self, name: &str) -> PyResult<TorqueSpec> {
+        torque_spec(&self.obj.getattr(name)?, self.raised)
+    }
+
+    fn models(&self, name: &str) -> PyResult<Vec<TorqueSpec>> {
+        let models: Vec<Bound<'_, PyAny>> = self.obj.getattr(name)?.extract()?;
+        models.iter().map(|m| torque_spec(m, self.raised)).collect()
+    }
 }
 
 /// The spec of a `polhode.torque` model, dispatched on its `kind` (its class name).
@@ -40,33 +58,6 @@ pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<T
         ))
     })?;
     Ok(match kind.as_str() {
-        "BodyFixed" => TorqueSpec::BodyFixed(vector(obj, "torque")?),
-        "SpaceFixed" => TorqueSpec::SpaceFixed(vector(obj, "torque")?),
-        "Gravity" => TorqueSpec::Gravity {
-            gravity: vector(obj, "gravity")?,
-            pivot: optional_vector(obj, "pivot")?,
-            mass: obj.getattr("mass")?.extract()?,
-            center_of_mass: optional_vector(obj, "center_of_mass")?,
-        },
-        "GravityGradient" => TorqueSpec::GravityGradient {
-            mean_motion: obj.getattr("mean_motion")?.extract()?,
-            orbit_normal: vector(obj, "orbit_normal")?,
-            radial0: vector(obj, "radial0")?,
-        },
-        "Window" => TorqueSpec::Window {
-            start: obj.getattr("start")?.extract()?,
-            end: obj.getattr("end")?.extract()?,
-            torque: Box::new(torque_spec(&obj.getattr("torque")?, raised)?),
-        },
-        "Sum" => {
-            let terms: Vec<Bound<'_, PyAny>> = obj.getattr("terms")?.extract()?;
-            TorqueSpec::Sum(
-                terms
-                    .iter()
-                    .map(|term| torque_spec(term, raised))
-                    .collect::<PyResult<_>>()?,
-            )
-        }
         "Function" => {
             // `_call(t, omega, quaternion)` calls the user's function and checks what it
             // returned; its first exception is kept and raised as it was.
@@ -96,11 +87,7 @@ pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<T
                 discontinuities: obj.getattr("discontinuities")?.extract()?,
             })
         }
-        other => {
-            return Err(PyTypeError::new_err(format!(
-                "Expected `torque` to be a polhode.torque model or a callable, got kind {other:?}."
-            )))
-        }
+        other => TorqueSpec::from_fields(other, &PyFields { obj, raised })?,
     })
 }
 

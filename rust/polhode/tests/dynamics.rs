@@ -1133,78 +1133,6 @@ fn results_are_invariant_under_scaling_of_moments_and_angular_velocity() {
     }
 }
 
-#[test]
-fn batch_results_are_bitwise_identical_to_single_runs_whatever_the_threads() {
-    let n = 12;
-    let moments: Vec<Vector3<f64>> = (0..n)
-        .map(|i| {
-            Vector3::new(
-                1.0 + 0.01 * i as f64,
-                2.0 - 0.02 * i as f64,
-                2.5 + 0.005 * i as f64,
-            )
-        })
-        .collect();
-    let states: Vec<State> = (0..n)
-        .map(|i| {
-            State::new(
-                Vector3::new(0.1 * i as f64, 1.0, -0.3),
-                UnitQuaternion::from_euler_angles(0.01 * i as f64, 0.2, 0.0),
-            )
-        })
-        .collect();
-    let times = [0.5, 1.0];
-    let torque = Gravity::new(
-        Vector3::new(0.0, 0.0, 0.1),
-        1.0,
-        Vector3::new(0.0, 0.0, -9.81),
-    )
-    .unwrap();
-    for method in [
-        Method::Rk4 { dt: 0.01 },
-        Method::Splitting {
-            dt: 0.01,
-            order: SplittingOrder::Four,
-        },
-        Method::Midpoint { dt: 0.01 },
-        Method::Dop853(Dop853Options::default()),
-    ] {
-        for torque in [None, Some(&torque as &dyn Torque)] {
-            let options = Options {
-                torque,
-                ..Options::default()
-            };
-            let single: Vec<Trajectory> = (0..n)
-                .map(|i| run(method, moments[i], &states[i], &times, &options))
-                .collect();
-            for threads in [1, 2, 3] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                let batch = pool
-                    .install(|| integrate_batch(&method, &moments, &states, &times, &options))
-                    .unwrap();
-                assert_eq!(batch, single, "{method:?} with {threads} threads");
-            }
-        }
-    }
-    // The first failing body is reported, by index.
-    let mut bad = states.clone();
-    bad[7].omega[0] = f64::NAN;
-    bad[9].omega[0] = f64::NAN;
-    match integrate_batch(
-        &Method::Rk4 { dt: 0.1 },
-        &moments,
-        &bad,
-        &times,
-        &Options::default(),
-    ) {
-        Err(Error::NonFinite { name, .. }) => assert_eq!(name, "state0.omega[0] (body 7)"),
-        other => panic!("{other:?}"),
-    }
-}
-
 /// Time per step of each method; run with
 /// `cargo test --release -p polhode --test dynamics -- --ignored --nocapture step_timings`.
 #[test]
@@ -1719,21 +1647,6 @@ fn monitor_progress_and_cancel() {
             assert_eq!(result.unwrap_err(), Error::Interrupted, "{name}");
         }
     }
-    // A batch: the time of all bodies, then skipped once cancelled.
-    let n = 5;
-    let (all_moments, states) = (vec![moments; n], vec![state0; n]);
-    let monitor = Monitor::new();
-    let options = Options {
-        monitor: Some(&monitor),
-        ..Options::default()
-    };
-    let method = Method::Rk4 { dt: 1e-2 };
-    integrate_batch(&method, &all_moments, &states, &times, &options).unwrap();
-    assert!((monitor.elapsed() - 40.0 * n as f64).abs() <= 1e-9);
-    assert_eq!(monitor.finished(), n as u64);
-    monitor.cancel();
-    let result = integrate_batch(&method, &all_moments, &states, &times, &options);
-    assert_eq!(result.unwrap_err(), Error::Interrupted);
     // Cancelled from another thread while running (1e10 steps unless stopped), for a fixed
     // step and the adaptive method.
     for method in [
@@ -1923,22 +1836,4 @@ fn exact_method_reports_to_the_monitor() {
     assert_eq!(looks.load(std::sync::atomic::Ordering::Relaxed), 2);
     assert_eq!(monitor.elapsed(), 512.0);
     assert_eq!(monitor.finished(), 0);
-    // In a batch, each body reports its span.
-    let n = 3;
-    let monitor = Monitor::new();
-    let options = Options {
-        t0,
-        monitor: Some(&monitor),
-        ..Options::default()
-    };
-    let batch = integrate_batch(
-        &Method::Exact,
-        &vec![moments; n],
-        &vec![state0; n],
-        &times,
-        &options,
-    );
-    assert_eq!(batch.unwrap().len(), n);
-    assert_eq!(monitor.elapsed(), 3000.0);
-    assert_eq!(monitor.finished(), n as u64);
 }

@@ -356,3 +356,30 @@ proptest! {
         prop_assert!((p.axes.transpose() * p.axes - Matrix3::identity()).norm() <= 8.0 * EPS);
     }
 }
+
+/// The table of solids builds each by name, as its own constructor does; an unknown name or a
+/// wrong number of parameters is an error naming it.
+#[test]
+fn every_solid_is_built_by_name() {
+    use polhode::mass::SOLIDS;
+    for solid in SOLIDS {
+        let width: usize = solid.parameters.iter().map(|&(_, w)| w).sum();
+        // Distinct lengths, in increasing order (a tube's inner radius below its outer, a
+        // torus's minor radius below its major: the minor listed second, so reversed).
+        let mut values: Vec<f64> = (0..width).map(|i| 0.5 + 0.25 * i as f64).collect();
+        if solid.name == "torus" {
+            values.reverse();
+        }
+        let body = MassProperties::solid(solid.name, 2.0, &values).unwrap();
+        assert_eq!(body.mass(), 2.0, "{}", solid.name);
+        let wrong = MassProperties::solid(solid.name, 2.0, &[1.0; 7]).unwrap_err();
+        assert_eq!(wrong.argument(), Some("parameters"), "{}", solid.name);
+    }
+    let expected = MassProperties::tube(2.0, 0.5, 0.75, 1.0).unwrap();
+    assert_eq!(
+        MassProperties::solid("tube", 2.0, &[0.5, 0.75, 1.0]).unwrap(),
+        expected
+    );
+    let unknown = MassProperties::solid("blob", 1.0, &[]).unwrap_err();
+    assert_eq!(unknown.argument(), Some("kind"));
+}

@@ -275,3 +275,202 @@ fn gravity_takes_mass_and_centre_of_mass_from_a_body() {
     );
     assert!(matches!(bare, Err(Error::InvalidArgument { ref name, .. }) if name == "torque"));
 }
+
+/// Body `i`'s numbers of every column of a batch.
+fn body_rows(out: &polhode::simulation::Outputs, i: usize) -> Vec<Vec<f64>> {
+    out.columns
+        .iter()
+        .map(|(q, data)| {
+            let len = out.m * q.width().max(1);
+            data[i * len..(i + 1) * len].to_vec()
+        })
+        .collect()
+}
+
+#[test]
+fn a_batch_with_a_torque_is_bitwise_each_body_alone_whatever_the_threads() {
+    let n = 12;
+    let bodies: Vec<Body> = (0..n)
+        .map(|i| {
+            let i = i as f64;
+            Body::Moments(Vector3::new(
+                1.0 + 0.01 * i,
+                2.0 - 0.02 * i,
+                2.5 + 0.005 * i,
+            ))
+        })
+        .collect();
+    let omega: Vec<Vector3<f64>> = (0..n)
+        .map(|i| Vector3::new(0.1 * i as f64, 1.0, -0.3))
+        .collect();
+    let q0: Vec<UnitQuaternion<f64>> = (0..n)
+        .map(|i| UnitQuaternion::from_euler_angles(0.01 * i as f64, 0.2, 0.0))
+        .collect();
+    let gravity = TorqueSpec::Gravity {
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        pivot: None,
+        mass: Some(1.0),
+        center_of_mass: Some(Vector3::new(0.0, 0.0, 0.1)),
+    };
+    let t = [0.5, 1.0];
+    for method in methods().into_iter().skip(1) {
+        for torque in [None, Some(gravity.clone())] {
+            let run = Simulation {
+                torque,
+                ..Simulation::new(method)
+            };
+            let alone: Vec<Vec<Vec<f64>>> = (0..n)
+                .map(|i| {
+                    let out = simulate(&run, &bodies[i..=i], &omega[i..=i], &q0[i..=i], &t, None)
+                        .unwrap();
+                    body_rows(&out, 0)
+                })
+                .collect();
+            for threads in [1, 2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let batch = pool
+                    .install(|| simulate(&run, &bodies, &omega, &q0, &t, None))
+                    .unwrap();
+                for (i, rows) in alone.iter().enumerate() {
+                    assert_eq!(&body_rows(&batch, i), rows, "{method:?}, {threads} threads");
+                }
+            }
+        }
+    }
+}
+
+/// A batch reports the time integrated by all its bodies and the bodies finished (every
+/// method, the exact solution included), and a cancelled monitor skips every body.
+#[test]
+fn a_batch_reports_its_progress_and_stops_when_cancelled() {
+    let n = 5;
+    let bodies = [Body::Moments(Vector3::new(2.0, 3.0, 4.0))];
+    let omega = vec![Vector3::new(0.1, 1.0, 0.1); n];
+    let t = [0.5, 20.0, 40.0];
+    for method in methods() {
+        let monitor = Monitor::new();
+        let run = Simulation::new(method);
+        let q0 = [UnitQuaternion::identity()];
+        let out = simulate(&run, &bodies, &omega, &q0, &t, Some(&monitor)).unwrap();
+        assert_eq!(out.n, n);
+        assert!(
+            (monitor.elapsed() - 40.0 * n as f64).abs() <= 1e-9,
+            "{method:?}: {}",
+            monitor.elapsed()
+        );
+        assert_eq!(monitor.finished(), n as u64, "{method:?}");
+        monitor.cancel();
+        let error = simulate(&run, &bodies, &omega, &q0, &t, Some(&monitor)).unwrap_err();
+        assert_eq!(error, Error::Interrupted, "{method:?}");
+        assert_eq!(
+            monitor.finished(),
+            n as u64,
+            "{method:?}: no body ran once cancelled"
+        );
+    }
+}
+
+/// Every method by its name: the method of that name, `dt` required by the fixed-step ones,
+/// `"auto"` the exact solution without a torque and dop853 with one; unknown names, a missing
+/// `dt` and a wrong order are errors naming them.
+#[test]
+fn methods_by_name() {
+    use polhode::dynamics::{MethodSettings, Stepping, METHODS};
+    let with_dt = MethodSettings {
+        dt: Some(0.1),
+        ..MethodSettings::default()
+    };
+    for &(name, stepping) in METHODS {
+        let method = Method::from_name(name, &with_dt).unwrap();
+        match stepping {
+            Stepping::Auto => assert_eq!(method, Method::Exact),
+            _ => assert_eq!(method.name(), name),
+        }
+        let without = Method::from_name(name, &MethodSettings::default());
+        if stepping == Stepping::Fixed {
+            assert_eq!(without.unwrap_err().argument(), Some("dt"), "{name}");
+        } else {
+            assert!(without.is_ok(), "{name}");
+        }
+    }
+    let torqued = MethodSettings {
+        torque: true,
+        rtol: 1e-8,
+        ..MethodSettings::default()
+    };
+    assert_eq!(
+        Method::from_name("auto", &torqued).unwrap(),
+        Method::Dop853(Dop853Options::with_rtol(1e-8))
+    );
+    let order = MethodSettings {
+        order: 3,
+        ..with_dt
+    };
+    let error = Method::from_name("splitting", &order).unwrap_err();
+    assert_eq!(error.argument(), Some("order"));
+    let error = Method::from_name("euler", &with_dt).unwrap_err();
+    assert_eq!(error.argument(), Some("method"));
+}
+
+/// Models read by kind from named fields, as a front end holds them; a missing field or an
+/// unknown kind is an error naming it.
+#[test]
+fn torque_models_from_their_fields() {
+    use polhode::dynamics::Fields;
+    use std::collections::HashMap;
+    struct Map(HashMap<&'static str, Vec<f64>>);
+    impl Fields for Map {
+        type Error = Error;
+        fn error(error: Error) -> Error {
+            error
+        }
+        fn number(&self, name: &str) -> Result<Option<f64>, Error> {
+            Ok(self.0.get(name).map(|v| v[0]))
+        }
+        fn vector(&self, name: &str) -> Result<Option<Vector3<f64>>, Error> {
+            Ok(self.0.get(name).map(|v| Vector3::new(v[0], v[1], v[2])))
+        }
+        fn model(&self, _: &str) -> Result<TorqueSpec, Error> {
+            Ok(TorqueSpec::BodyFixed(Vector3::new(0.0, 0.0, 1.0)))
+        }
+        fn models(&self, name: &str) -> Result<Vec<TorqueSpec>, Error> {
+            Ok(vec![self.model(name)?; 2])
+        }
+    }
+    let fields = Map(HashMap::from([
+        ("mean_motion", vec![0.5]),
+        ("orbit_normal", vec![0.0, 0.0, 1.0]),
+        ("radial0", vec![1.0, 0.0, 0.0]),
+        ("start", vec![1.0]),
+        ("end", vec![2.0]),
+    ]));
+    match TorqueSpec::from_fields("GravityGradient", &fields).unwrap() {
+        TorqueSpec::GravityGradient {
+            mean_motion,
+            orbit_normal,
+            radial0,
+        } => {
+            assert_eq!(mean_motion, 0.5);
+            assert_eq!(orbit_normal, Vector3::z());
+            assert_eq!(radial0, Vector3::x());
+        }
+        _ => panic!("not a gravity gradient"),
+    }
+    match TorqueSpec::from_fields("Window", &fields).unwrap() {
+        TorqueSpec::Window { start, end, .. } => assert_eq!((start, end), (1.0, 2.0)),
+        _ => panic!("not a window"),
+    }
+    assert!(matches!(
+        TorqueSpec::from_fields("Sum", &fields).unwrap(),
+        TorqueSpec::Sum(terms) if terms.len() == 2
+    ));
+    let argument = |kind| match TorqueSpec::from_fields(kind, &fields) {
+        Err(error) => error.argument().map(str::to_owned),
+        Ok(_) => None,
+    };
+    assert_eq!(argument("Gravity").as_deref(), Some("gravity"));
+    assert_eq!(argument("Magnet").as_deref(), Some("torque"));
+}

@@ -2,7 +2,6 @@
 //! their settings and results, and the loops that run them.
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
-use rayon::prelude::*;
 
 use super::dop853::{self, Settings, Tolerance};
 use super::midpoint::Midpoint;
@@ -42,6 +41,134 @@ pub enum Method {
     /// The exact solution of the torque-free body ([`FreeRotation`]) evaluated at each output
     /// time: no steps, torque-free only.
     Exact,
+}
+
+/// How a method steps: what choosing it by name needs ([`Method::from_name`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stepping {
+    /// The exact solution without a torque, `dop853` with one.
+    Auto,
+    /// A closed form: no step.
+    Exact,
+    /// A fixed step `dt`.
+    Fixed,
+    /// Adaptive, to `rtol` and `atol`.
+    Adaptive,
+}
+
+impl Stepping {
+    /// Its name, as [`METHODS`] lists it for a user (`"fixed"`, ...).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Stepping::Auto => "auto",
+            Stepping::Exact => "exact",
+            Stepping::Fixed => "fixed",
+            Stepping::Adaptive => "adaptive",
+        }
+    }
+}
+
+/// Every method by the name a user gives it, and how it steps. Adding a method is its module
+/// (a [`Stepper`]), a variant of [`Method`] with its arm in the driver, and its row here and in
+/// [`Method::from_name`] and [`Method::name`].
+pub const METHODS: &[(&str, Stepping)] = &[
+    ("auto", Stepping::Auto),
+    ("exact", Stepping::Exact),
+    ("splitting", Stepping::Fixed),
+    ("midpoint", Stepping::Fixed),
+    ("rk4", Stepping::Fixed),
+    ("dop853", Stepping::Adaptive),
+];
+
+/// What a method chosen by name may take: the step of a fixed-step method, the splitting's
+/// order, the adaptive method's tolerances, and whether a torque is applied (`"auto"` then
+/// picks `dop853`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MethodSettings {
+    /// Largest step of a fixed-step method (required by them).
+    pub dt: Option<f64>,
+    /// Order of the splitting: 2, 4 or 6.
+    pub order: i64,
+    /// Relative tolerance of `dop853`.
+    pub rtol: f64,
+    /// Absolute tolerance of `dop853` (see [`Dop853Options::atol`]).
+    pub atol: Option<f64>,
+    /// Whether a torque is applied.
+    pub torque: bool,
+}
+
+impl Default for MethodSettings {
+    fn default() -> Self {
+        Self {
+            dt: None,
+            order: 4,
+            rtol: Dop853Options::default().rtol,
+            atol: None,
+            torque: false,
+        }
+    }
+}
+
+impl Method {
+    /// The method a user names (a row of [`METHODS`]) with its settings; the values themselves
+    /// are checked when it runs. Errors name `method`, `dt` (a fixed-step method without one)
+    /// or `order`.
+    pub fn from_name(name: &str, settings: &MethodSettings) -> Result<Self> {
+        let dt = || {
+            settings.dt.ok_or_else(|| Error::InvalidArgument {
+                name: "dt".into(),
+                reason: format!("expected `dt` (the largest step) for method {name:?}, got None."),
+            })
+        };
+        let dop853 = Method::Dop853(Dop853Options {
+            rtol: settings.rtol,
+            atol: settings.atol,
+            ..Dop853Options::default()
+        });
+        Ok(match name {
+            "auto" if settings.torque => dop853,
+            "auto" | "exact" => Method::Exact,
+            "splitting" => Method::Splitting {
+                dt: dt()?,
+                order: match settings.order {
+                    2 => SplittingOrder::Two,
+                    4 => SplittingOrder::Four,
+                    6 => SplittingOrder::Six,
+                    other => {
+                        return Err(Error::InvalidArgument {
+                            name: "order".into(),
+                            reason: format!(
+                                "expected 2, 4 or 6 for method \"splitting\", got {other}."
+                            ),
+                        })
+                    }
+                },
+            },
+            "midpoint" => Method::Midpoint { dt: dt()? },
+            "rk4" => Method::Rk4 { dt: dt()? },
+            "dop853" => dop853,
+            other => {
+                let names: Vec<String> = METHODS.iter().map(|(n, _)| format!("{n:?}")).collect();
+                return Err(Error::InvalidArgument {
+                    name: "method".into(),
+                    reason: format!("expected one of {}, got {other:?}.", names.join(", ")),
+                });
+            }
+        })
+    }
+
+    /// The method's name, a row of [`METHODS`].
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Exact => "exact",
+            Method::Splitting { .. } => "splitting",
+            Method::Midpoint { .. } => "midpoint",
+            Method::Rk4 { .. } => "rk4",
+            Method::Dop853(_) => "dop853",
+        }
+    }
 }
 
 /// Settings of the adaptive [`Method::Dop853`].
@@ -663,37 +790,4 @@ pub fn integrate_body(
         orientation: collector.orientation,
         stats,
     })
-}
-
-/// Integrates many bodies with the same method, output times and options, in parallel (rayon).
-///
-/// Each body's trajectory is bitwise identical to [`integrate`] on it alone, whatever the
-/// number of threads. On failure, the error of the first failing body (by index) is returned,
-/// its argument name suffixed with the body index. Once `options.monitor` is cancelled, the
-/// bodies running stop at their next look and those not started are skipped: the result is
-/// then [`Error::Interrupted`] (or an earlier body's error).
-pub fn integrate_batch(
-    method: &Method,
-    moments: &[Vector3<f64>],
-    states0: &[State],
-    times: &[f64],
-    options: &Options,
-) -> Result<Vec<Trajectory>> {
-    if moments.len() != states0.len() {
-        return Err(Error::Shape {
-            name: "states0".into(),
-            expected: format!("({},)", moments.len()),
-            got: format!("({},)", states0.len()),
-        });
-    }
-    let results: Vec<Result<Trajectory>> = moments
-        .par_iter()
-        .zip(states0.par_iter())
-        .map(|(m, s)| integrate(method, m, s, times, options))
-        .collect();
-    results
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| r.map_err(|e| e.map_name(|name| format!("{name} (body {i})"))))
-        .collect()
 }

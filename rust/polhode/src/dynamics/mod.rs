@@ -46,7 +46,8 @@ pub mod torque;
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
 pub(crate) use driver::{check_method, check_times};
 pub use driver::{
-    integrate, integrate_batch, integrate_body, Dop853Options, Method, Options, Stats, Trajectory,
+    integrate, integrate_body, Dop853Options, Method, MethodSettings, Options, Stats, Stepping,
+    Trajectory, METHODS,
 };
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,

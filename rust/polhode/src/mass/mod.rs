@@ -12,6 +12,7 @@ mod points;
 mod solids;
 
 pub use points::POINT_CHUNK;
+pub use solids::{Solid, SOLIDS};
 
 use std::ops::Add;
 

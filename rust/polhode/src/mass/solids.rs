@@ -247,3 +247,115 @@ impl MassProperties {
         })
     }
 }
+
+/// An analytic solid by name: what a binding or a command line needs to build any of them
+/// through one entry, [`MassProperties::solid`]. Adding a solid is its constructor above and
+/// one row of [`SOLIDS`].
+#[derive(Clone, Copy, Debug)]
+pub struct Solid {
+    /// The constructor's name (`"sphere"`, ...).
+    pub name: &'static str,
+    /// Its parameters after the mass, in order: each a name and a width (1, or 3 for a
+    /// vector along x, y, z).
+    pub parameters: &'static [(&'static str, usize)],
+    build: fn(f64, &[f64]) -> Result<MassProperties>,
+}
+
+/// `(x, y, z)` from the first three numbers.
+fn xyz(p: &[f64]) -> Vector3<f64> {
+    Vector3::new(p[0], p[1], p[2])
+}
+
+/// Every analytic solid of [`MassProperties`], by name.
+pub const SOLIDS: &[Solid] = &[
+    Solid {
+        name: "point",
+        parameters: &[],
+        build: |m, _| MassProperties::point(m),
+    },
+    Solid {
+        name: "sphere",
+        parameters: &[("radius", 1)],
+        build: |m, p| MassProperties::sphere(m, p[0]),
+    },
+    Solid {
+        name: "spherical_shell",
+        parameters: &[("radius", 1)],
+        build: |m, p| MassProperties::spherical_shell(m, p[0]),
+    },
+    Solid {
+        name: "cuboid",
+        parameters: &[("size", 3)],
+        build: |m, p| MassProperties::cuboid(m, xyz(p)),
+    },
+    Solid {
+        name: "cylinder",
+        parameters: &[("radius", 1), ("length", 1)],
+        build: |m, p| MassProperties::cylinder(m, p[0], p[1]),
+    },
+    Solid {
+        name: "tube",
+        parameters: &[("inner_radius", 1), ("outer_radius", 1), ("length", 1)],
+        build: |m, p| MassProperties::tube(m, p[0], p[1], p[2]),
+    },
+    Solid {
+        name: "cone",
+        parameters: &[("radius", 1), ("length", 1)],
+        build: |m, p| MassProperties::cone(m, p[0], p[1]),
+    },
+    Solid {
+        name: "ellipsoid",
+        parameters: &[("semi_axes", 3)],
+        build: |m, p| MassProperties::ellipsoid(m, xyz(p)),
+    },
+    Solid {
+        name: "rod",
+        parameters: &[("length", 1)],
+        build: |m, p| MassProperties::rod(m, p[0]),
+    },
+    Solid {
+        name: "disk",
+        parameters: &[("radius", 1)],
+        build: |m, p| MassProperties::disk(m, p[0]),
+    },
+    Solid {
+        name: "torus",
+        parameters: &[("major_radius", 1), ("minor_radius", 1)],
+        build: |m, p| MassProperties::torus(m, p[0], p[1]),
+    },
+    Solid {
+        name: "capsule",
+        parameters: &[("radius", 1), ("length", 1)],
+        build: |m, p| MassProperties::capsule(m, p[0], p[1]),
+    },
+];
+
+impl MassProperties {
+    /// The analytic solid named `name` (a row of [`SOLIDS`]) of `mass`, from the numbers of its
+    /// parameters in order (a vector parameter gives three).
+    ///
+    /// ```
+    /// # use polhode::MassProperties;
+    /// let a = MassProperties::solid("cylinder", 2.0, &[0.5, 3.0])?;
+    /// assert_eq!(a, MassProperties::cylinder(2.0, 0.5, 3.0)?);
+    /// # Ok::<(), polhode::Error>(())
+    /// ```
+    pub fn solid(name: &str, mass: f64, parameters: &[f64]) -> Result<Self> {
+        let Some(solid) = SOLIDS.iter().find(|s| s.name == name) else {
+            let names: Vec<&str> = SOLIDS.iter().map(|s| s.name).collect();
+            return Err(Error::InvalidArgument {
+                name: "kind".into(),
+                reason: format!("expected one of {}, got {name:?}.", names.join(", ")),
+            });
+        };
+        let width: usize = solid.parameters.iter().map(|&(_, w)| w).sum();
+        if parameters.len() != width {
+            return Err(Error::Shape {
+                name: "parameters".into(),
+                expected: format!("({width},)"),
+                got: format!("({},)", parameters.len()),
+            });
+        }
+        (solid.build)(mass, parameters)
+    }
+}

@@ -648,7 +648,69 @@ pub struct FunctionSpec {
     pub discontinuities: Vec<f64>,
 }
 
+/// A torque model's named fields as a front end holds them (a Python object, a parsed file):
+/// what [`TorqueSpec::from_fields`] reads. `E` is the front end's error type.
+pub trait Fields {
+    /// The front end's error.
+    type Error;
+    /// A core error as the front end's.
+    fn error(error: Error) -> Self::Error;
+    /// The number in field `name` (`None` when it holds none).
+    fn number(&self, name: &str) -> std::result::Result<Option<f64>, Self::Error>;
+    /// The vector (x, y, z) in field `name` (`None` when it holds none).
+    fn vector(&self, name: &str) -> std::result::Result<Option<Vector3<f64>>, Self::Error>;
+    /// The model in field `name`.
+    fn model(&self, name: &str) -> std::result::Result<TorqueSpec, Self::Error>;
+    /// The models in the list in field `name`.
+    fn models(&self, name: &str) -> std::result::Result<Vec<TorqueSpec>, Self::Error>;
+}
+
 impl TorqueSpec {
+    /// The model of kind `kind` (its name: `"BodyFixed"`, `"SpaceFixed"`, `"Gravity"`,
+    /// `"GravityGradient"`, `"Window"`, `"Sum"`) from its fields, named as in the variants.
+    /// A [`TorqueSpec::Function`] holds a closure, which a front end builds itself. Adding a
+    /// model is its type above, its variant, and its arm here, in `check` and in `build`.
+    pub fn from_fields<F: Fields>(kind: &str, fields: &F) -> std::result::Result<Self, F::Error> {
+        let required = |name: &str, value: Option<Vector3<f64>>| {
+            value.ok_or_else(|| F::error(missing(kind, name)))
+        };
+        let number = |name: &str| {
+            fields
+                .number(name)?
+                .ok_or_else(|| F::error(missing(kind, name)))
+        };
+        Ok(match kind {
+            "BodyFixed" => TorqueSpec::BodyFixed(required("torque", fields.vector("torque")?)?),
+            "SpaceFixed" => TorqueSpec::SpaceFixed(required("torque", fields.vector("torque")?)?),
+            "Gravity" => TorqueSpec::Gravity {
+                gravity: required("gravity", fields.vector("gravity")?)?,
+                pivot: fields.vector("pivot")?,
+                mass: fields.number("mass")?,
+                center_of_mass: fields.vector("center_of_mass")?,
+            },
+            "GravityGradient" => TorqueSpec::GravityGradient {
+                mean_motion: number("mean_motion")?,
+                orbit_normal: required("orbit_normal", fields.vector("orbit_normal")?)?,
+                radial0: required("radial0", fields.vector("radial0")?)?,
+            },
+            "Window" => TorqueSpec::Window {
+                start: number("start")?,
+                end: number("end")?,
+                torque: Box::new(fields.model("torque")?),
+            },
+            "Sum" => TorqueSpec::Sum(fields.models("terms")?),
+            other => {
+                return Err(F::error(Error::InvalidArgument {
+                    name: "torque".into(),
+                    reason: format!(
+                        "expected a torque model (BodyFixed, SpaceFixed, Gravity, \
+                         GravityGradient, Window, Sum or Function), got kind {other:?}."
+                    ),
+                }))
+            }
+        })
+    }
+
     /// The point the body turns about when the torque holds a [`TorqueSpec::Gravity`] (its
     /// pivot, default the origin of body coordinates), else `None`.
     #[must_use]
@@ -785,4 +847,12 @@ pub struct BodyContext {
     /// Mass and centre of mass seen from the pivot, in body axes, when the body was given as
     /// mass properties and the torque has a pivot.
     pub mass_about_pivot: Option<(f64, Vector3<f64>)>,
+}
+
+/// The error for a field a model of `kind` needs and does not hold.
+fn missing(kind: &str, name: &str) -> Error {
+    Error::InvalidArgument {
+        name: name.into(),
+        reason: format!("a {kind} torque needs `{name}`."),
+    }
 }
