@@ -330,6 +330,24 @@ for _name, (_params, _lengths) in SOLIDS.items():
         solid_check(_name, _params, 600, -300), "closed form x 2^0 (exact)")
 
 area = "constructors"
+SOLID = ph.Body.solid
+err(area, "solid/kind='pyramid'", lambda: SOLID("pyramid", 1.0), ph.ArgumentError, "kind")
+err(area, "solid/kind=3", lambda: SOLID(3, 1.0, radius=1.0), TypeError, "kind")
+err(area, "solid/sphere without radius", lambda: SOLID("sphere", 1.0), TypeError, "radius")
+err(area, "solid/sphere with a length", lambda: SOLID("sphere", 1.0, radius=1.0, length=2.0),
+    TypeError, None, fragment="length")
+err(area, "solid/radius='x'", lambda: SOLID("sphere", 1.0, radius="x"), TypeError, "radius")
+err(area, "solid/radius=nan", lambda: SOLID("sphere", 1.0, radius=NAN), ph.NonFiniteError,
+    "radius")
+err(area, "solid/cuboid size (2,)", lambda: SOLID("cuboid", 1.0, size=(1.0, 2.0)), ph.ShapeError,
+    "size")
+err(area, "solid/point mass=0", lambda: SOLID("point", 0.0), ph.NonPositiveError, "mass")
+val(area, "solid/point", lambda: SOLID("point", 2.5),
+    lambda b: (close(b.mass, 2.5, 0.0), close(b.inertia, np.zeros((3, 3)), 0.0)),
+    "a point mass: no inertia about itself")
+val(area, "solid/cylinder at 2^500", lambda: SOLID("cylinder", 1.0, radius=3 * 2.0**500,
+                                                   length=6 * 2.0**500),
+    solid_check("cylinder", (3.0, 6.0), 0, 500), "closed form x 2^1000")
 err(area, "cuboid/size=(1,2)", lambda: ph.Body.cuboid(1.0, (1.0, 2.0)), ph.ShapeError, "size")
 err(area, "cuboid/size=[None,2,3]", lambda: ph.Body.cuboid(1.0, [None, 2.0, 3.0]), TypeError,
     "size")

@@ -151,6 +151,22 @@ def test_solids(name, mass, params):
 
 
 @FUZZ
+@given(
+    st.sampled_from([*sorted(SOLIDS), "cuboid", "ellipsoid", "point", "pyramid"]),
+    FLOATS,
+    st.dictionaries(
+        st.sampled_from(["radius", "length", "size", "semi_axes", "inner_radius",
+                         "outer_radius", "major_radius", "minor_radius", "mass", "width"]),
+        st.one_of(FLOATS, anything()),
+        max_size=4,
+    ),
+)
+def test_solid_by_name(kind, mass, parameters):
+    finite = is_finite_input(mass, *parameters.values())
+    call(ph.Body.solid, kind, mass, **parameters, finite_input=finite, what=f"solid[{kind}]")
+
+
+@FUZZ
 @given(st.sampled_from(["cuboid", "ellipsoid"]), FLOATS, anything())
 def test_vector_solids(name, mass, size):
     call(getattr(ph.Body, name), mass, size, finite_input=is_finite_input(size), what=name)
