@@ -10,7 +10,12 @@ infinity in the output of a finite input fails the test.
 
 from __future__ import annotations
 
+import atexit
+import contextlib
+import io
 import math
+import shutil
+import tempfile
 from typing import Any
 
 import numpy as np
@@ -143,6 +148,22 @@ def test_solids(name, mass, params):
     body = call(getattr(ph.Body, name), mass, *args, finite_input=True, what=name)
     if body is not None:
         check_finite_output(body, name)
+
+
+@FUZZ
+@given(
+    st.sampled_from([*sorted(SOLIDS), "cuboid", "ellipsoid", "point", "pyramid"]),
+    FLOATS,
+    st.dictionaries(
+        st.sampled_from(["radius", "length", "size", "semi_axes", "inner_radius",
+                         "outer_radius", "major_radius", "minor_radius", "mass", "width"]),
+        st.one_of(FLOATS, anything()),
+        max_size=4,
+    ),
+)
+def test_solid_by_name(kind, mass, parameters):
+    finite = is_finite_input(mass, *parameters.values())
+    call(ph.Body.solid, kind, mass, **parameters, finite_input=finite, what=f"solid[{kind}]")
 
 
 @FUZZ
@@ -279,3 +300,282 @@ def test_torque_models(kind, vector, a, b):
             finite_input=True,
             what=f"simulate[{kind}]",
         )
+
+
+# ---------------------------------------------------------------------------------------------
+# Every method under every torque model, meshes, composites, polhode.dask and the command line
+# ---------------------------------------------------------------------------------------------
+
+FIXED_OR_ADAPTIVE = st.sampled_from(["splitting", "midpoint", "rk4", "dop853", "auto"])
+
+
+def torque_models(vector):
+    """A torque model (or plain callable) built from drawn numbers; None if its parameters are
+    refused (that refusal is itself checked by ``call``)."""
+    return st.one_of(
+        vector.map(lambda v: ("BodyFixed", lambda: ph.torque.BodyFixed(v))),
+        vector.map(lambda v: ("SpaceFixed", lambda: ph.torque.SpaceFixed(v))),
+        st.tuples(vector, FLOATS).map(
+            lambda a: ("Gravity", lambda: ph.torque.Gravity(a[0], pivot=(0.0, 0.0, 0.0)))
+        ),
+        st.tuples(FLOATS, vector).map(
+            lambda a: ("GravityGradient", lambda: ph.torque.GravityGradient(a[0], a[1]))
+        ),
+        st.tuples(vector, FLOATS, FLOATS).map(
+            lambda a: ("Window", lambda: ph.torque.Window(ph.torque.BodyFixed(a[0]), a[1], a[2]))
+        ),
+        st.tuples(vector, vector).map(
+            lambda a: ("Sum", lambda: ph.torque.BodyFixed(a[0]) + ph.torque.SpaceFixed(a[1]))
+        ),
+        st.tuples(vector, st.sampled_from(["constant", "damping", "junk", "nan", "shape"])).map(
+            lambda a: ("Function", lambda: ph.torque.Function(_torque_function(*a)))
+        ),
+    )
+
+
+def _torque_function(v, kind):
+    """A torque function returning something finite, or something a user might wrongly
+    return (junk, NaN, a wrong shape): each must end in a typed error, never a panic."""
+    if kind == "constant":
+        return lambda t, w, q: v
+    if kind == "damping":
+        return lambda t, w, q: -0.1 * np.asarray(w) + v
+    if kind == "junk":
+        return lambda t, w, q: "abc"
+    if kind == "nan":
+        return lambda t, w, q: (math.nan, 0.0, 0.0)
+    return lambda t, w, q: (0.0, 0.0)
+
+
+@FUZZ
+@given(
+    torque_models(vector3(FINITE)),
+    st.one_of(
+        vector3(POSITIVE),
+        st.just(ph.Body.cone(1.0, 0.3, 1.0)),
+        st.just(ph.Body.cuboid(2.0, (1.0, 2.0, 3.0)).rotated([0.1, 0.2, 0.3, 0.9])),
+    ),
+    vector3(st.floats(-20.0, 20.0)),
+    FIXED_OR_ADAPTIVE,
+    st.sampled_from([1, 2]),
+)
+def test_simulate_with_torques(made, body, omega0, method, steps):
+    """Every model under every method that takes a torque, with drawn parameters. A model that
+    is refused when made raises a typed error there; one that is made must integrate to finite
+    numbers or raise a typed error (a motion that leaves double precision, too many steps)."""
+    kind, make = made
+    model = call(make, finite_input=False, what=kind)
+    if model is None:
+        return
+    call(
+        ph.simulate,
+        body,
+        omega0,
+        np.linspace(0.0, 0.5, steps + 1),
+        method=method,
+        dt=0.05,
+        torque=model,
+        max_steps=20_000,
+        finite_input=True,
+        what=f"simulate[{method}, {kind}]",
+    )
+
+
+TET_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
+TET_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+CUBE_V = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+CUBE_F = np.array([
+    [0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+    [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3],
+])
+
+
+@st.composite
+def meshes(draw):
+    """A closed mesh (tetrahedron or cube) moved, scaled and spoilt: vertices anywhere in the
+    double range or NaN, faces reversed, dropped, repeated, out of range or of another dtype."""
+    vertices, faces = draw(st.sampled_from([(TET_V, TET_F), (CUBE_V, CUBE_F)]))
+    scale = draw(st.one_of(st.just(1.0), st.sampled_from([1e-300, 1e-150, 1e150, 1e300]),
+                           st.floats(1e-3, 1e3)))
+    shift = draw(vector3(st.one_of(st.floats(-1e3, 1e3), st.sampled_from([1e10, -1e200]))))
+    vertices = vertices * scale + shift
+    if draw(st.booleans()):
+        noise = draw(arrays(FLOATS, st.just(vertices.shape)))
+        k = draw(st.integers(0, vertices.size - 1))
+        vertices = vertices.copy()
+        vertices.flat[k] = noise.flat[k]
+    faces = faces.copy()
+    spoil = draw(st.sampled_from(["none", "reverse", "drop", "repeat", "flip one", "shift",
+                                  "dtype", "empty"]))
+    if spoil == "reverse":
+        faces = faces[:, ::-1]
+    elif spoil == "drop":
+        faces = faces[:-1]
+    elif spoil == "repeat":
+        faces = np.vstack([faces, faces[:1]])
+    elif spoil == "flip one":
+        faces = np.vstack([faces[:-1], faces[-1:, ::-1]])
+    elif spoil == "shift":
+        faces = faces + draw(st.integers(-2, 2))
+    elif spoil == "dtype":
+        faces = faces.astype(draw(st.sampled_from([np.int32, np.uint16, np.float64, bool])))
+    elif spoil == "empty":
+        faces = np.zeros((0, 3), dtype=np.int64)
+    return vertices, faces
+
+
+@FUZZ
+@given(
+    meshes(),
+    st.one_of(st.none(), FLOATS),
+    st.one_of(st.none(), FLOATS),
+    st.booleans(),
+    st.one_of(st.booleans(), JUNK),
+)
+def test_meshes(mesh, density, mass, shell, fix_winding):
+    vertices, faces = mesh
+    finite = is_finite_input(vertices) and all(
+        x is None or math.isfinite(x) for x in (density, mass)
+    )
+    body = call(ph.Body.mesh, vertices, faces, density=density, mass=mass, shell=shell,
+                fix_winding=fix_winding, finite_input=finite, what="mesh")
+    if body is not None:
+        call(body.principal, finite_input=True, what="mesh.principal")
+
+
+def parts():
+    """A body part from the constructors, moved by drawn offsets and rotations."""
+    return st.tuples(
+        st.sampled_from([
+            ph.Body.sphere(1.0, 1.0),
+            ph.Body.rod(2.0, 3.0),
+            ph.Body.point_masses([1e-12], [[0.0, 0.0, 0.0]]),
+            ph.Body.cuboid(1e200, (1.0, 2.0, 3.0)),
+            ph.Body.disk(1e-200, 1e-100),
+        ]),
+        st.one_of(vector3(FINITE), vector3(FLOATS)),
+        st.one_of(st.just(np.eye(3)), vector3(st.floats(-1.0, 1.0)).map(
+            lambda v: np.append(v, 0.5))),
+    )
+
+
+@FUZZ
+@given(st.lists(parts(), min_size=1, max_size=4))
+def test_composites(pieces):
+    """Parts moved anywhere in the double range and added (and summed): the right composite,
+    finite, or a typed error naming what overflows."""
+    bodies = []
+    for body, offset, rotation in pieces:
+        moved = call(lambda b=body, o=offset, r=rotation: b.rotated(r).translated(o),
+                     finite_input=is_finite_input(offset), what="rotated.translated")
+        if moved is None:
+            return
+        bodies.append(moved)
+    total = call(sum, bodies, finite_input=True, what="sum")
+    if total is not None:
+        call(total.principal, finite_input=True, what="composite.principal")
+        call(total.inertia_about, (0.0, 0.0, 0.0), finite_input=True, what="inertia_about")
+
+
+@FUZZ
+@given(
+    st.one_of(arrays(POSITIVE, st.sampled_from([(3,), (2, 3), (3, 3)])), anything()),
+    st.one_of(arrays(st.floats(-10.0, 10.0), st.sampled_from([(1, 3), (2, 3), (3, 3)])),
+              arrays(FLOATS, st.sampled_from([(2, 3), (3,), (0, 3)])), JUNK),
+    st.sampled_from([None, 1, 2]),
+    st.sampled_from(["exact", "rk4", "dop853"]),
+)
+def test_dask(body, omega0, chunks, method):
+    """polhode.dask.simulate and .analyze on small batches, built and computed in process."""
+    phd = pytest.importorskip("polhode.dask")
+    finite = is_finite_input(body, omega0)
+
+    def run_simulate():
+        return phd.simulate(body, omega0, [0.0, 0.5], chunks=chunks, method=method,
+                            dt=0.05 if method == "rk4" else None,
+                            max_steps=20_000).compute(scheduler="sync")
+
+    def run_analyze():
+        result = phd.analyze(body, omega0, chunks=chunks).compute(scheduler="sync")
+        # NaN stands for the None of polhode.analyze (documented): the other numbers must be
+        # finite.
+        return (result.moments, result.omega, result.energy, result.angular_momentum_norm)
+
+    call(run_simulate, finite_input=finite, what=f"dask.simulate[{method}]")
+    call(run_analyze, finite_input=finite, what="dask.analyze")
+
+
+# The command line: words a user might type, in any order. The numbers stay where a run is
+# short (a dop853 run to t = 1e90 would take its 1e8 steps): the fuzz is about parsing and the
+# errors, the catalogue and test_cli about the long runs.
+NUMBER_WORDS = ["0", "1", "2", "3", "-1", "0.5", "1e-300", "5e-324", "1e300", "nan", "inf",
+                "-inf", "1e999", "x", "", "1,5", "0x10", "1e-3"]
+SPIN_OPTIONS = {
+    "--moments": 3, "--omega": 3, "--t": 1, "--points": 1, "--method": 1, "--dt": 1,
+    "--order": 1, "--rtol": 1, "--body": 3, "--csv": 1, "--plot": 1, "--frobnicate": 0,
+}
+BODY_WORDS = ["sphere", "cylinder", "tube", "torus", "pyramid", "mass=1", "radius=0.1",
+              "length=2", "radius=1e300", "radius=-1", "mass=nan", "inner_radius=2",
+              "outer_radius=1", "major_radius=1", "minor_radius=2", "a=1", "b=2", "c=x", "="]
+METHOD_WORDS = ["auto", "exact", "splitting", "midpoint", "rk4", "dop853", "euler", ""]
+
+
+@st.composite
+def command_lines(draw, folder):
+    command = draw(st.sampled_from(["spin"] * 6 + ["demo", "bench", "frobnicate", ""]))
+    words = [command] if command else []
+    if command == "":  # no command is the demo with its plots: only options before one
+        return draw(st.lists(st.sampled_from(["--version", "--help", "-h", "--t", "x", "--"]),
+                             min_size=1, max_size=3))
+    if command == "demo":
+        return [*words, "--no-plots", *draw(st.lists(st.sampled_from(["--out", "x", "-q"]),
+                                                     max_size=2))]
+    if command == "bench":  # only ever with a bad --repeats: a valid one runs the benchmarks
+        return [*words, "--repeats", draw(st.sampled_from(["0", "-1", "x", "2.5", ""]))]
+    for option in draw(st.lists(st.sampled_from(sorted(SPIN_OPTIONS)), max_size=7)):
+        words.append(option)
+        count = draw(st.integers(0, SPIN_OPTIONS[option] + 1))
+        for _ in range(count):
+            if option == "--method":
+                words.append(draw(st.sampled_from(METHOD_WORDS)))
+            elif option == "--body":
+                words.append(draw(st.sampled_from(BODY_WORDS)))
+            elif option in ("--csv", "--plot"):
+                words.append(draw(st.sampled_from([
+                    f"{folder}/run.csv", f"{folder}/run.png", f"{folder}/missing/run.png",
+                    folder, "", f"{folder}/run.xyz"])))
+            elif option == "--points":
+                words.append(draw(st.sampled_from(["2", "3", "1", "0", "x", "1e3", "-5"])))
+            elif option == "--t":
+                words.append(draw(st.sampled_from(["0", "1", "2.5", "-1", "nan", "inf", "1e999",
+                                                   "x", "1e-300", "20"])))
+            else:
+                words.append(draw(st.sampled_from(NUMBER_WORDS)))
+    return words
+
+
+_CLI_FOLDER = tempfile.mkdtemp(prefix="polhode-fuzz-cli-")
+atexit.register(shutil.rmtree, _CLI_FOLDER, ignore_errors=True)
+
+
+@FUZZ
+@given(command_lines(_CLI_FOLDER))
+def test_command_line(argv):
+    """Any command line exits 0, or 2 with a one-line error (1 only for a failed write, which
+    the paths here cannot cause), never with a traceback or another exception."""
+    from polhode.cli import main
+
+    note(f"polhode {' '.join(argv)}")
+    out, errors = io.StringIO(), io.StringIO()
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(errors):
+            code = main(argv)
+    except BaseException as error:  # noqa: BLE001 - the point of the test
+        pytest.fail(f"polhode {argv} raised {type(error).__name__}: {error}")
+    stderr = errors.getvalue()
+    assert code in (0, 2), (code, stderr)
+    assert "Traceback" not in stderr, stderr
+    if code == 2:
+        assert "error" in stderr, stderr
+    else:
+        assert "nan" not in out.getvalue().lower().replace("nan)", ""), out.getvalue()

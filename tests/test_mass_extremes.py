@@ -146,7 +146,8 @@ def test_multiplicities_hold_at_every_scale(exponent):
 def test_principal_up_to_the_largest_double_and_beyond():
     # [[a, b, 0], [b, a, 0], [0, 0, c]] has eigenvalues a - b, a + b, c. With a + b = 1.65e308
     # every moment is a double (right to 10 eps ||A|| as above); with 1.9e308 the largest is
-    # not, and the error says so, naming `inertia` (and, in a batch, the first such tensor).
+    # not, and the error says so, naming `inertia` (and, in a batch, the first such tensor as
+    # its `body`).
     # Before: the trace overflowed and the moments came out NaN.
     fits = np.array([[0.85e308, 0.8e308, 0.0], [0.8e308, 0.85e308, 0.0], [0.0, 0.0, 1.0e308]])
     p = ph.principal(fits)
@@ -160,7 +161,8 @@ def test_principal_up_to_the_largest_double_and_beyond():
     assert_names(error, "inertia", "overflow", "double precision", "1.9e+308")
     with pytest.raises(ph.ArgumentError) as error:
         ph.principal(np.stack([fits, beyond, fits, beyond]))
-    assert_names(error, "inertia", "inertia[1]", "overflow")
+    assert_names(error, "inertia", "body 1: ", "overflow")
+    assert error.value.body == 1
 
 
 @pytest.mark.parametrize("exponent", [-300, -200, -100, 0, 100, 200, 300, 307])

@@ -40,15 +40,35 @@ def _kind(value: Any) -> str:
 
 def as_float_array(name: str, value: Any) -> NDArray[np.float64]:
     """A C-contiguous float64 array of any shape: TypeError naming ``name`` for anything that
-    is not real numbers (strings, None, complex numbers, objects)."""
+    is not real numbers (strings, None, complex numbers, objects), also inside a list (numpy
+    would read ``[1, None]`` as ``[1, nan]``)."""
     if value is None or isinstance(value, str | bytes) or np.iscomplexobj(value):
         raise TypeError(f"Expected `{name}` to be an array of real numbers, got {_kind(value)}.")
+    if not isinstance(value, np.ndarray) or value.dtype.kind == "O":
+        try:
+            raw = np.asarray(value)
+        except (TypeError, ValueError) as error:
+            raise TypeError(
+                f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
+            ) from error
+        if raw.dtype.kind not in "biuf" and not (raw.dtype.kind == "O" and _all_real(raw)):
+            what = _kind(value) if raw.dtype.kind == "O" else f"{_kind(value)} of {raw.dtype}"
+            raise TypeError(f"Expected `{name}` to be an array of real numbers, got {what}.")
     try:
         return np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
         raise TypeError(
             f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
         ) from error
+
+
+def _all_real(array: NDArray[Any]) -> bool:
+    """Whether every element of an object array is a real number (None, strings and complex
+    numbers are not)."""
+    return all(
+        isinstance(x, numbers.Real) and not isinstance(x, bool) or isinstance(x, np.bool_ | bool)
+        for x in array.flat
+    )
 
 
 def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np.float64]:

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -10,8 +12,9 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_float_array as _as_float_array
+from polhode._coerce import as_scalar
 from polhode.bodies import Body
-from polhode.errors import ShapeError
+from polhode.errors import ArgumentError, ShapeError
 from polhode.principal_axes import principal
 from polhode.simulation import _body as _simulation_body
 
@@ -71,21 +74,59 @@ class Analysis:
     linearized: dict[str, Any] = field(default_factory=dict)
 
 
+def _rate(what: str, value: Fraction | float) -> float:
+    """A rate of the analysis as a double, or an ArgumentError naming ``body`` when it lies
+    beyond the largest double (moments spanning more than the range of doubles)."""
+    try:
+        result = float(value)
+    except OverflowError:
+        result = math.inf
+    if not math.isfinite(result):
+        raise ArgumentError(
+            f"Invalid `body`: {what} of this motion overflows double precision (the moments "
+            "span more than the range of doubles).",
+            argument="body",
+        )
+    return result
+
+
 #: The regime of a motion about the axis of the smallest or the largest moment, by axis index.
 _ABOUT = {0: "about_smallest_axis", 2: "about_largest_axis"}
 
 
-def _principal_frame(body: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _merged(moments: NDArray[np.float64], rtol: float | None) -> NDArray[np.float64]:
+    """Principal moments given as numbers, those whose gap is at most ``rtol`` times the
+    largest replaced by their mean (none without ``rtol``: numbers are taken as they are)."""
+    if rtol is None:
+        return moments
+    out = moments.copy()
+    order = np.argsort(out, kind="stable")
+    tolerance = rtol * float(np.max(np.abs(out)))
+    groups: list[list[int]] = [[int(order[0])]]
+    for a, b in zip(order[:-1], order[1:], strict=True):
+        if out[b] - out[a] <= tolerance:
+            groups[-1].append(int(b))
+        else:
+            groups.append([int(b)])
+    for group in groups:
+        out[group] = float(np.mean(moments[group]))
+    return out
+
+
+def _principal_frame(
+    body: Any, rtol: float | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The principal moments (as given, or ascending) and axes (columns, body coordinates)
-    of one body: a Body, principal moments (3,) or an inertia tensor (3, 3)."""
+    of one body: a Body, principal moments (3,) or an inertia tensor (3, 3); moments within
+    ``rtol`` returned equal."""
     if isinstance(body, Body):
-        p = body.principal()
+        p = body.principal(rtol)
         return p.moments, p.axes
     array = _as_float_array("body", body)
     if array.shape == (3,):
-        return array, np.eye(3)
+        return _merged(array, rtol), np.eye(3)
     if array.shape == (3, 3):
-        p = principal(array)
+        p = principal(array, rtol)
         return p.moments, p.axes
     raise ShapeError(
         "Expected `body` to be one body (a Body, principal moments (3,) or an inertia tensor "
@@ -97,9 +138,21 @@ def _principal_frame(body: Any) -> tuple[NDArray[np.float64], NDArray[np.float64
 def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     """Regime, period, flip interval, precession and axis stability of a torque-free motion.
 
-    ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes. Moments
-    within ``rtol`` (the principal-axes tolerance) count as equal.
+    ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes.
+
+    Two moments are equal when they are equal numbers: as given, or as returned by the
+    principal-axes solve of a Body or a tensor (which merges moments within its tolerance).
+    ``rtol`` (finite, >= 0) merges more: the tolerance of that solve, and for principal moments
+    given as numbers, gaps up to ``rtol`` times the largest moment (the moments are then
+    replaced by their mean, in the result and in the analysis). The regime, the period, the
+    precession and the axis stability all describe the same moments.
     """
+    if rtol is not None:
+        rtol = as_scalar("rtol", rtol)
+        if not (np.isfinite(rtol) and rtol >= 0):
+            raise ArgumentError(
+                f"Expected `rtol` to be finite and >= 0, got {rtol!r}.", argument="rtol"
+            )
     omega_body = _as_float_array("omega0", omega0)
     if omega_body.shape != (3,):
         raise ShapeError(
@@ -110,7 +163,7 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     # The same checks as simulate (positive moments, finite omega0 and energy), in the core.
     _core.simulate(_simulation_body(body), omega_body, np.zeros(1), method="exact",
                    orientation=False)
-    moments, axes = _principal_frame(body)
+    moments, axes = _principal_frame(body, rtol)
     order = np.argsort(moments, kind="stable")
     moments = moments[order]
     omega = (omega_body @ axes)[order]
@@ -121,13 +174,16 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     period = info["period"]
     flip = period / 2 if regime in _ABOUT.values() and period is not None else None
     precession = None
-    scale = float(np.max(moments))
-    tolerance = (8 * np.finfo(float).eps if rtol is None else rtol) * scale
-    equal = [abs(moments[1] - moments[0]) <= tolerance, abs(moments[2] - moments[1]) <= tolerance]
-    if regime == "symmetric" or (equal[0] != equal[1]):
+    # Equal as the core's regime sees them (exactly): the merging is done above.
+    equal = [moments[1] == moments[0], moments[2] == moments[1]]
+    if equal[0] != equal[1]:
         s = 2 if equal[0] else 0  # the symmetry axis: the distinct moment
         t = 1
-        precession = float(omega[s] * (moments[s] - moments[t]) / moments[t])
+        precession = _rate(
+            "the precession rate w_s (I_s - I_t) / I_t",
+            Fraction(float(omega[s])) * (Fraction(float(moments[s])) - Fraction(float(moments[t])))
+            / Fraction(float(moments[t])),
+        )
     if equal[0] and equal[1]:
         stability: tuple[str, str, str] = ("neutral", "neutral", "neutral")
     elif equal[0]:
@@ -139,13 +195,24 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     k = int(np.argmax(np.abs(omega)))
     a, b = [j for j in range(3) if j != k]
     w = float(omega[k])
-    omega_a = w * (moments[k] - moments[b]) / moments[a]
-    omega_b = w * (moments[k] - moments[a]) / moments[b]
-    product = omega_a * omega_b
+    ma, mb, mk = (float(moments[j]) for j in (a, b, k))
+    # Omega_a Omega_b = w^2 (I_k - I_b) (I_k - I_a) / (I_a I_b), and the rate its square root:
+    # in doubles when the product is one (moments within 1e308 of each other), else from the
+    # two square roots apart; a rate beyond the largest double is an error, not inf.
+    with np.errstate(over="ignore", invalid="ignore"):
+        product = (w * (mk - mb) / ma) * (w * (mk - ma) / mb)
+    if math.isfinite(product):
+        rate = math.sqrt(abs(product))
+    else:
+        rate = abs(w) * (math.sqrt(abs(mk - mb)) / math.sqrt(ma)) * (
+            math.sqrt(abs(mk - ma)) / math.sqrt(mb)
+        )
+    rate = _rate("the linearized rate sqrt(|Omega_a Omega_b|)", rate)
+    growth = w != 0.0 and (mk - mb < 0.0 < mk - ma or mk - ma < 0.0 < mk - mb)
     linearized = {
         "axis": k,
-        "kind": "oscillation" if product >= 0 else "growth",
-        "rate": float(np.sqrt(abs(product))),
+        "kind": "growth" if growth else "oscillation",
+        "rate": rate,
     }
     return Analysis(
         moments=moments,

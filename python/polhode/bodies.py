@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_rotation_matrix, as_scalar
-from polhode.errors import ShapeError
+from polhode.errors import ArgumentError, PolhodeError, ShapeError
 from polhode.principal_axes import Principal
 
 __all__ = ["Body"]
@@ -65,7 +65,7 @@ def _as_faces(faces: Any) -> NDArray[np.int64]:
         shape = "(" + ", ".join(str(d) for d in array.shape) + (",)" if array.ndim == 1 else ")")
         raise ShapeError(f"Expected `faces` to have shape (M, 3), got {shape}.", argument="faces")
     if array.dtype.kind == "u" and array.size and int(array.max()) > np.iinfo(np.int64).max:
-        raise ShapeError(
+        raise ArgumentError(
             f"Expected `faces` to hold vertex indices, got {int(array.max())}.", argument="faces"
         )
     return np.ascontiguousarray(array, dtype=np.int64)
@@ -300,7 +300,12 @@ class Body:
         """
         xx, yy, zz, xy, xz, yz = as_array("fullinertia", fullinertia, (6,))
         tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-        return cls.from_inertia(mass, tensor, center_of_mass)
+        # The six numbers as the tensor: its errors name `fullinertia` (the element, for a
+        # non-finite one), the argument given.
+        order = {(0, 0): 0, (1, 1): 1, (2, 2): 2, (0, 1): 3, (0, 2): 4, (1, 2): 5}
+        return cls._from_six(
+            mass, tensor, center_of_mass, lambda i, j: f"fullinertia[{order[i, j]}]", "fullinertia"
+        )
 
     @classmethod
     def from_urdf_inertia(
@@ -321,7 +326,29 @@ class Body:
             as_scalar(n, x) for n, x in zip(_URDF_KEYS, (ixx, ixy, ixz, iyy, iyz, izz), strict=True)
         ]
         tensor = np.array([[v[0], v[1], v[2]], [v[1], v[3], v[4]], [v[2], v[4], v[5]]])
-        return cls.from_inertia(mass, tensor, center_of_mass)
+        keys = {(0, 0): "ixx", (0, 1): "ixy", (0, 2): "ixz", (1, 1): "iyy", (1, 2): "iyz",
+                (2, 2): "izz"}
+        return cls._from_six(mass, tensor, center_of_mass, lambda i, j: keys[i, j], "inertia")
+
+    @classmethod
+    def _from_six(
+        cls, mass: float, tensor: Any, center_of_mass: Any, element: Any, whole: str
+    ) -> Body:
+        """from_inertia on a tensor made of six numbers, its errors renamed after them: a
+        non-finite element by ``element(i, j)`` (i <= j), the tensor as a whole by ``whole``."""
+        try:
+            return cls.from_inertia(mass, tensor, center_of_mass)
+        except PolhodeError as error:
+            if error.argument != "inertia":
+                raise
+            message = error.message
+            for i in range(3):
+                for j in range(3):
+                    name = element(min(i, j), max(i, j))
+                    message = message.replace(f"`inertia[{i}, {j}]`", f"`{name}`")
+            message = message.replace("`inertia`", f"`{whole}`")
+            first = message.split("`")[1] if "`" in message else whole
+            raise type(error)(message, argument=first.split("[")[0], body=error.body) from None
 
     # --- molecules ------------------------------------------------------------------------
 

@@ -286,7 +286,16 @@ def _spin(args: argparse.Namespace) -> int:
         options["rtol"] = args.rtol
     omega0 = np.array(args.omega, dtype=float)
     times = np.linspace(0.0, args.t, args.points)
-    option_of = {"body": source, "omega0": "--omega", "t": "--t", "dt": "--dt", "rtol": "--rtol"}
+    # The option behind each argument an error can name (max_steps: the steps dop853 needed
+    # to reach --t, which has no option of its own).
+    option_of = {
+        "body": source,
+        "omega0": "--omega",
+        "t": "--t",
+        "dt": "--dt",
+        "rtol": "--rtol",
+        "max_steps": "--t",
+    }
     try:
         a = ph.analyze(body, omega0)
         started = time.perf_counter()

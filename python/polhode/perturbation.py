@@ -55,6 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
+from polhode._coerce import as_array, as_integer
 from polhode._coerce import as_float_array as _as_float_array
 from polhode.errors import ArgumentError, NonFiniteError, ShapeError
 
@@ -103,13 +104,12 @@ def perturbation(moments: Any, omega0: Any, t: Any, *, axis: int | None = None, 
     NonFiniteError
         Non-finite input, or an expansion that overflows double precision.
     """
-    inertia = _as_float_array("moments", moments)
-    omega = _as_float_array("omega0", omega0)
+    inertia = as_array("moments", moments, (3,))
+    omega = as_array("omega0", omega0, (3,))
     times = np.atleast_1d(_as_float_array("t", t))
-    if inertia.shape != (3,) or omega.shape != (3,) or times.ndim != 1:
+    if times.ndim != 1:
         raise ShapeError(
-            "Expected `moments` and `omega0` of shape (3,) and `t` of shape (M,), got "
-            f"{inertia.shape}, {omega.shape}, {times.shape}."
+            f"Expected `t` to have shape (M,), got {times.shape}.", argument="t"
         )
     if not (np.all(np.isfinite(inertia)) and np.all(inertia > 0)):
         raise ArgumentError(
@@ -119,11 +119,11 @@ def perturbation(moments: Any, omega0: Any, t: Any, *, axis: int | None = None, 
         raise NonFiniteError(f"Expected finite `omega0`, got {omega.tolist()}.", argument="omega0")
     if not np.all(np.isfinite(times)):
         raise NonFiniteError("Expected finite `t`.", argument="t")
-    if isinstance(order, bool) or order not in (0, 1, 2):
-        raise ArgumentError(f"Expected `order` to be 0, 1 or 2, got {order!r}.", argument="order")
-    k = int(np.argmax(np.abs(omega))) if axis is None else axis
-    if isinstance(k, bool) or k not in (0, 1, 2):
-        raise ArgumentError(f"Expected `axis` to be 0, 1 or 2, got {axis!r}.", argument="axis")
+    order = as_integer("order", order, allowed=(0, 1, 2))
+    if axis is None:
+        k = int(np.argmax(np.abs(omega)))
+    else:
+        k = as_integer("axis", axis, allowed=(0, 1, 2))
     i, j = (k + 1) % 3, (k + 2) % 3  # cyclic, so the signs of Euler's equations hold
     ii, ij, ik = inertia[i], inertia[j], inertia[k]
     spin, a, b = omega[k], omega[i], omega[j]

@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_float_array, as_scalar
-from polhode.errors import ShapeError
+from polhode.errors import PolhodeError, ShapeError
 
 if TYPE_CHECKING:
     from scipy.spatial.transform import Rotation
@@ -114,7 +114,9 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
     ShapeError
         ``inertia`` not (3, 3) or (N, 3, 3); a single (3, 3) tensor with ``continuous=True``.
     NonFiniteError, ArgumentError
-        Non-finite or asymmetric tensors (naming ``inertia[i]``), a negative ``rtol``.
+        For a bad tensor (not finite, not symmetric, moments beyond the largest double),
+        ``argument="inertia"`` and, in a batch, ``body`` the index of the first bad one; a
+        negative ``rtol``.
 
     Examples
     --------
@@ -149,7 +151,13 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
             argument="inertia",
         )
     tolerance = None if rtol is None else as_scalar("rtol", rtol)
-    moments, axes, multiplicity = _core.principal(array, tolerance)
+    try:
+        moments, axes, multiplicity = _core.principal(array, tolerance)
+    except PolhodeError as error:
+        # The core solves one tensor as a batch of one: its error is about no batch's body.
+        if array.ndim == 2 and error.body is not None:
+            raise error.for_body(None) from None
+        raise
     if continuous:
         moments, axes, multiplicity = _follow(moments, axes, multiplicity)
     return Principal(moments, axes, multiplicity)

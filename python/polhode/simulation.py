@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -117,12 +118,14 @@ def _check_fits(omega0: NDArray[np.float64], times: NDArray[np.float64], orienta
 
 
 def _orientation0(orientation0: Any) -> NDArray[np.float64] | None:
-    """Quaternions (..., 4) xyzw or matrices (..., 3, 3); the core checks them."""
+    """Quaternions (..., 4) xyzw or matrices (..., 3, 3); the core checks them.
+
+    A scipy Rotation is recognised without importing scipy (whoever made one has imported it):
+    an array never pays for that import, nor does the run's ``wall_time``."""
     if orientation0 is None:
         return None
-    from scipy.spatial.transform import Rotation
-
-    if isinstance(orientation0, Rotation):
+    transform = sys.modules.get("scipy.spatial.transform")
+    if transform is not None and isinstance(orientation0, transform.Rotation):
         return np.ascontiguousarray(orientation0.as_quat())
     return _as_float_array("orientation0", orientation0)
 

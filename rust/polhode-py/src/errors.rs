@@ -18,7 +18,7 @@ impl From<polhode::Error> for CoreError {
 fn class_name(error: &polhode::Error) -> &'static str {
     use polhode::Error as E;
     match error {
-        E::NonFinite { .. } => "NonFiniteError",
+        E::NonFinite { .. } | E::BlewUp { .. } => "NonFiniteError",
         E::NonPositive { .. } => "NonPositiveError",
         E::Shape { .. } => "ShapeError",
         E::InvalidInertia { .. } => "InertiaError",

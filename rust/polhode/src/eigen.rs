@@ -498,8 +498,8 @@ pub const BATCH_CHUNK: usize = 4096;
 /// [`BATCH_CHUNK`] tensors, so that a cancelled monitor stops the batch within a chunk, with
 /// [`Error::Interrupted`].
 ///
-/// Of several bad tensors, the error names the first (in the batch's order), whatever the number
-/// of threads.
+/// Of several bad tensors, the error is the first's (in the batch's order), whatever the number
+/// of threads, as [`Error::Body`] with its index.
 pub fn principal_batch_monitored(
     tensors: &[f64],
     rtol: f64,
@@ -605,10 +605,7 @@ fn solve_chunk_generic(
                 Ok(a) => {
                     lanes.load(l, &a);
                 }
-                Err(e) => {
-                    let indexed = format!("inertia[{}]", offset + i);
-                    return Err(e.map_name(|name| name.replacen("inertia", &indexed, 1)));
-                }
+                Err(e) => return Err(e.in_body(offset + i)),
             }
         }
         lanes.solve();
@@ -620,11 +617,9 @@ fn solve_chunk_generic(
                 *out = ldexp(x, k);
             }
             if !m[3 * i..3 * i + 3].iter().all(|x| x.is_finite()) {
-                return Err(moments_overflow(
-                    &format!("inertia[{}]", offset + i),
-                    p.moments.abs().max(),
-                    k,
-                ));
+                return Err(
+                    moments_overflow("inertia", p.moments.abs().max(), k).in_body(offset + i)
+                );
             }
             for (k, &count) in p.multiplicity.iter().enumerate() {
                 u[3 * i + k] = i64::from(count);

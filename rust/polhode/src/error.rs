@@ -55,8 +55,26 @@ pub enum Error {
     NoConvergence {
         /// The method that failed.
         method: String,
+        /// The argument that is the way out (`dt` of a fixed-step method, `max_steps`, or `t`
+        /// for a solution that cannot be continued to the times asked for).
+        name: String,
         /// What happened.
         reason: String,
+    },
+    /// The solution left double precision: a step far too long for the motion, or a motion
+    /// that overflows.
+    #[error("The solution blew up at t = {}: {what} is {}; {hint}", Short(*t), Short(*value))]
+    BlewUp {
+        /// The argument that is the way out (`dt` of a fixed-step method, else `t`).
+        name: String,
+        /// The output that is not finite, e.g. `omega[0]` or `the orientation`.
+        what: String,
+        /// What to do about it.
+        hint: String,
+        /// The time of that output.
+        t: f64,
+        /// Its value.
+        value: f64,
     },
     /// The run was cancelled through its [`crate::dynamics::Monitor`].
     #[error("The integration was interrupted (its monitor was cancelled).")]
@@ -82,8 +100,8 @@ pub enum Error {
 
 impl Error {
     /// The same error with the argument it names rewritten by `f` (e.g. to add an index or a
-    /// body number); for [`Error::NoConvergence`], the method's name; [`Error::Interrupted`],
-    /// which names nothing, is returned as it is.
+    /// body number); [`Error::Interrupted`] and [`Error::OutOfMemory`], which name nothing,
+    /// are returned as they are.
     #[must_use]
     pub fn map_name(self, f: impl FnOnce(String) -> String) -> Self {
         match self {
@@ -112,9 +130,27 @@ impl Error {
                 name: f(name),
                 reason,
             },
-            Error::NoConvergence { method, reason } => Error::NoConvergence {
-                method: f(method),
+            Error::NoConvergence {
+                method,
+                name,
                 reason,
+            } => Error::NoConvergence {
+                method,
+                name: f(name),
+                reason,
+            },
+            Error::BlewUp {
+                name,
+                what,
+                hint,
+                t,
+                value,
+            } => Error::BlewUp {
+                name: f(name),
+                what,
+                hint,
+                t,
+                value,
             },
             Error::Interrupted => Error::Interrupted,
             Error::OutOfMemory { bytes } => Error::OutOfMemory { bytes },
@@ -138,8 +174,9 @@ impl Error {
         }
     }
 
-    /// The argument at fault: the name up to its first index, field or note (`t` for
-    /// `t[3]`, `omega0` for `omega0[1]`), or `None` for an error that names none.
+    /// The argument at fault: the name up to its first index, field, list or note (`t` for
+    /// `t[3]`, `omega0` for `omega0[1]`, `start` for `start, end`), or `None` for an error
+    /// that names none.
     #[must_use]
     pub fn argument(&self) -> Option<&str> {
         let name = match self {
@@ -147,13 +184,13 @@ impl Error {
             | Error::NonPositive { name, .. }
             | Error::Shape { name, .. }
             | Error::InvalidInertia { name, .. }
-            | Error::InvalidArgument { name, .. } => name,
+            | Error::InvalidArgument { name, .. }
+            | Error::NoConvergence { name, .. }
+            | Error::BlewUp { name, .. } => name,
             Error::Body { error, .. } => return error.argument(),
-            Error::NoConvergence { .. } | Error::Interrupted | Error::OutOfMemory { .. } => {
-                return None
-            }
+            Error::Interrupted | Error::OutOfMemory { .. } => return None,
         };
-        let end = name.find(['[', ' ', '.', '(']).unwrap_or(name.len());
+        let end = name.find(['[', ' ', '.', '(', ',']).unwrap_or(name.len());
         Some(&name[..end])
     }
 }

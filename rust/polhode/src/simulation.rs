@@ -564,7 +564,21 @@ pub fn simulate(
             };
             for (quantity, row) in columns.iter().zip(rows.iter_mut()) {
                 let w = quantity.width().max(1);
-                sample.write(*quantity, &mut row[j * w..(j + 1) * w], &mut previous);
+                let out = &mut row[j * w..(j + 1) * w];
+                sample.write(*quantity, out, &mut previous);
+                // omega is finite (the integration checks it), but I omega and T can
+                // overflow beside it (a torque that drives the motion beyond doubles).
+                if let Some(&value) = out.iter().find(|x| !x.is_finite()) {
+                    return Err(Error::BlewUp {
+                        name: "t".into(),
+                        what: format!("`{}`", quantity.name()),
+                        hint: "the motion leaves double precision before the times asked \
+                               for."
+                            .into(),
+                        t: t[j],
+                        value,
+                    });
+                }
             }
         }
         Ok(trajectory.stats)

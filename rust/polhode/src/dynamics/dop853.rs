@@ -13,7 +13,7 @@ use super::state::{Moments, State};
 use super::system::{pack, unit_state, Field, NoTorque, System};
 use super::torque::{require_orientation_free, Segment, Torque};
 use super::Stats;
-use crate::{Error, Result};
+use crate::{Error, Result, Short};
 
 /// Per-component tolerances, `sc_i = atol_i + rtol_i max(|y_i|, |y'_i|)`.
 pub(crate) struct Tolerance<const N: usize> {
@@ -163,7 +163,20 @@ pub(crate) struct Settings<const N: usize> {
     pub max_steps: u64,
 }
 
-/// Hairer's `hinit`, with the absolute fallbacks relative to the span of integration.
+/// The Euclidean norm of `v`, scaled by its largest entry first: no square overflows (rates of
+/// 1e300 against tolerances of 1e-10) or underflows.
+fn scaled_norm<const N: usize>(v: &[f64; N]) -> f64 {
+    let largest = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest * v.iter().map(|x| (x / largest).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Hairer's `hinit`, with the absolute fallbacks relative to the span of integration. The norms
+/// are taken scaled and the second derivative's size in logarithms, so that a motion whose
+/// rates are far beyond its tolerances (omega 1e150 over 1e-160 s, a torque of 1e150) gets a
+/// small first step instead of one of zero.
 #[allow(clippy::too_many_arguments)]
 fn initial_step<S: System<N>, const N: usize>(
     sys: &S,
@@ -176,31 +189,26 @@ fn initial_step<S: System<N>, const N: usize>(
     span: f64,
     evals: &mut u64,
 ) -> Result<f64> {
-    let (mut dnf, mut dny) = (0.0, 0.0);
-    for i in 0..N {
-        let sk = tol.atol[i] + tol.rtol[i] * y[i].abs();
-        dnf += ratio(f0[i], sk).powi(2);
-        dny += ratio(y[i], sk).powi(2);
-    }
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+    let sk = |i: usize| tol.atol[i] + tol.rtol[i] * y[i].abs();
+    let dnf = scaled_norm(&std::array::from_fn::<f64, N, _>(|i| ratio(f0[i], sk(i))));
+    let dny = scaled_norm(&std::array::from_fn::<f64, N, _>(|i| ratio(y[i], sk(i))));
+    let mut h = if dnf <= 1e-5 || dny <= 1e-5 {
         1e-6 * span
     } else {
-        (dny / dnf).sqrt() * 0.01
+        (dny / dnf) * 0.01
     };
     h = h.min(hmax);
     let f1 = sys.rhs(segment, t + h, &(y + f0 * h))?;
     *evals += 1;
-    let mut der2 = 0.0;
-    for i in 0..N {
-        let sk = tol.atol[i] + tol.rtol[i] * y[i].abs();
-        der2 += ratio(f1[i] - f0[i], sk).powi(2);
-    }
-    let der2 = der2.sqrt() / h;
-    let der12 = der2.abs().max(dnf.sqrt());
-    let h1 = if der12 <= 1e-15 {
+    let d2 = scaled_norm(&std::array::from_fn::<f64, N, _>(|i| {
+        ratio(f1[i] - f0[i], sk(i))
+    }));
+    // log of max(|f1 - f0| / h, |f0|) (scaled by the tolerances): d2 / h may overflow.
+    let log_der12 = (d2.ln() - h.ln()).max(dnf.ln());
+    let h1 = if log_der12 <= 1e-15_f64.ln() {
         (1e-6 * span).max(h * 1e-3)
     } else {
-        (0.01 / der12).powf(1.0 / 8.0)
+        ((0.01_f64.ln() - log_der12) / 8.0).exp()
     };
     Ok((100.0 * h).min(h1).min(hmax))
 }
@@ -257,9 +265,12 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
         if stats.steps + stats.rejected_steps >= settings.max_steps {
             return Err(Error::NoConvergence {
                 method: "dop853".into(),
+                name: "max_steps".into(),
                 reason: format!(
-                    "more than max_steps = {} steps were needed to reach t = {t_end} (at t = {t}).",
-                    settings.max_steps
+                    "more than max_steps = {} steps were needed to reach t = {} (at t = {}).",
+                    settings.max_steps,
+                    Short(t_end),
+                    Short(t)
                 ),
             });
         }
@@ -273,8 +284,11 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
         if h.is_nan() || (!last && 0.1 * h.abs() <= t.abs() * f64::EPSILON) {
             return Err(Error::NoConvergence {
                 method: "dop853".into(),
+                name: "t".into(),
                 reason: format!(
-                    "step size {h} too small at t = {t} (non-finite or stiff solution?)."
+                    "step size {} too small at t = {} (non-finite or stiff solution?).",
+                    Short(h),
+                    Short(t)
                 ),
             });
         }

@@ -312,7 +312,10 @@ pub(crate) fn check_method(method: &Method, options: &Options) -> Result<()> {
             if o.rtol < 1e-15 {
                 return Err(Error::InvalidArgument {
                     name: "rtol".into(),
-                    reason: format!("expected rtol >= 1e-15 (double precision), got {}.", o.rtol),
+                    reason: format!(
+                        "expected rtol >= 1e-15 (double precision), got {}.",
+                        Short(o.rtol)
+                    ),
                 });
             }
             if let Some(a) = o.atol {
@@ -342,13 +345,41 @@ pub(crate) fn check_method(method: &Method, options: &Options) -> Result<()> {
 struct Collector {
     omega: Vec<Vector3<f64>>,
     orientation: Option<Vec<UnitQuaternion<f64>>>,
+    /// The argument an error names when the solution blows up: `dt` for the fixed-step
+    /// methods (a step too long for the motion), `t` for the others (a motion that leaves
+    /// double precision before the times asked for).
+    fixed_step: bool,
 }
 
 impl Collector {
-    fn new(n: usize, with_orientation: bool) -> Self {
+    fn new(n: usize, with_orientation: bool, fixed_step: bool) -> Self {
         Self {
             omega: Vec::with_capacity(n),
             orientation: with_orientation.then(|| Vec::with_capacity(n)),
+            fixed_step,
+        }
+    }
+
+    /// The error of an output `what` that is not finite at `t`.
+    #[cold]
+    fn blew_up(&self, what: String, t: f64, value: f64) -> Error {
+        let (name, hint) = if self.fixed_step {
+            (
+                "dt",
+                "reduce dt (a step too long for the rotation rate or the torque).",
+            )
+        } else {
+            (
+                "t",
+                "the motion leaves double precision before the times asked for.",
+            )
+        };
+        Error::BlewUp {
+            name: name.into(),
+            what,
+            hint: hint.into(),
+            t,
+            value,
         }
     }
 
@@ -362,17 +393,12 @@ impl Collector {
             if !unit.iter().all(|c| c.is_finite()) {
                 // The orientation can blow up while omega stays finite (a step far too large
                 // for the rotation rate): an error, not NaN quaternions beside finite omega.
-                return Err(Error::NonFinite {
-                    name: format!(
-                        "orientation at t = {} (the solution blew up: reduce dt)",
-                        Short(t)
-                    ),
-                    value: unit
-                        .iter()
-                        .copied()
-                        .find(|c| !c.is_finite())
-                        .unwrap_or(f64::NAN),
-                });
+                let value = unit
+                    .iter()
+                    .copied()
+                    .find(|c| !c.is_finite())
+                    .unwrap_or(f64::NAN);
+                return Err(self.blew_up("the orientation (its quaternion)".into(), t, value));
             }
             att.push(UnitQuaternion::new_unchecked(Quaternion::from(unit)));
         }
@@ -399,10 +425,7 @@ impl Collector {
     fn push_omega(&mut self, t: f64, w: &Vector3<f64>) -> Result<()> {
         for i in 0..3 {
             if !w[i].is_finite() {
-                return Err(Error::NonFinite {
-                    name: format!("omega[{i}] at t = {} (the solution blew up)", Short(t)),
-                    value: w[i],
-                });
+                return Err(self.blew_up(format!("omega[{i}]"), t, w[i]));
             }
         }
         self.omega.push(*w);
@@ -750,7 +773,11 @@ pub fn integrate_body(
     // The orientation is integrated if returned or if the torque depends on it.
     let orientation =
         options.with_orientation || options.torque.is_some_and(|t| t.depends_on_orientation());
-    let mut collector = Collector::new(times.len(), options.with_orientation);
+    let fixed_step = matches!(
+        method,
+        Method::Splitting { .. } | Method::Midpoint { .. } | Method::Rk4 { .. }
+    );
+    let mut collector = Collector::new(times.len(), options.with_orientation, fixed_step);
     let col = &mut collector;
     let stats = match (options.torque, orientation) {
         (None, false) => run::<_, false>(method, body, NoTorque, state0, times, options, col),

@@ -19,7 +19,7 @@ use super::state::{Moments, State};
 use super::stepper::{Stepper, Vars};
 use super::system::{Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
-use crate::{Error, Result};
+use crate::{Error, Result, Short};
 
 const MAX_ITERATIONS: usize = 50;
 
@@ -55,10 +55,13 @@ fn solve(j: &Mat3, k: f64, b: &Vector3<f64>) -> Option<Vector3<f64>> {
 }
 
 fn no_convergence(t: Option<f64>, h: f64, why: &str) -> Error {
-    let at = t.map(|t| format!(" at t = {t}")).unwrap_or_default();
+    let at = t
+        .map(|t| format!(" at t = {}", Short(t)))
+        .unwrap_or_default();
     Error::NoConvergence {
         method: "implicit midpoint (Newton)".into(),
-        reason: format!("{why}{at} with step {h}; reduce dt"),
+        name: "dt".into(),
+        reason: format!("{why}{at} with step {}; reduce dt", Short(h)),
     }
 }
 
@@ -225,9 +228,14 @@ fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
 /// Adds the time to a Newton failure of the torque-free midpoint (which does not know it).
 fn at_time(e: Error, t: f64) -> Error {
     match e {
-        Error::NoConvergence { method, reason } => Error::NoConvergence {
+        Error::NoConvergence {
             method,
-            reason: format!("{reason} (step from t = {t})."),
+            name,
+            reason,
+        } => Error::NoConvergence {
+            method,
+            name,
+            reason: format!("{reason} (step from t = {}).", Short(t)),
         },
         other => other,
     }

@@ -29,7 +29,7 @@ use super::state::{Moments, State};
 use super::stepper::{Stepper, Vars};
 use super::system::{Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
-use crate::{Error, Result};
+use crate::{Error, Result, Short};
 
 /// Order of the composed splitting method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -243,9 +243,11 @@ fn implicit_kick<T: Torque + ?Sized, const ATT: bool>(
     }
     Err(Error::NoConvergence {
         method: "splitting (implicit torque kick)".into(),
+        name: "dt".into(),
         reason: format!(
-            "the fixed-point iteration at t = {t} did not converge in 100 iterations; \
-             reduce dt (the torque varies too fast with omega)."
+            "the fixed-point iteration at t = {} did not converge in 100 iterations; \
+             reduce dt (the torque varies too fast with omega).",
+            Short(t)
         ),
     })
 }

@@ -45,10 +45,13 @@ pub struct SpaceFixed {
 }
 
 impl SpaceFixed {
-    /// A constant torque `torque_space` in space axes (finite).
-    pub fn new(torque_space: Vector3<f64>) -> Result<Self> {
-        finite_vector("torque_space", &torque_space)?;
-        Ok(Self { torque_space })
+    /// A constant `torque` in space axes (finite; an error names `torque`, as the model's
+    /// field in Python).
+    pub fn new(torque: Vector3<f64>) -> Result<Self> {
+        finite_vector("torque", &torque)?;
+        Ok(Self {
+            torque_space: torque,
+        })
     }
 }
 
