@@ -5,10 +5,12 @@ Mass properties and principal axes (:class:`Body`, :func:`principal`), motion
 """
 
 from polhode import errors, plot, torque
+from polhode._core import cancel_all
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.errors import (
     ArgumentError,
+    CancelledError,
     ConvergenceError,
     InertiaError,
     NonFiniteError,
@@ -24,6 +26,7 @@ __all__ = [
     "Analysis",
     "ArgumentError",
     "Body",
+    "CancelledError",
     "ConvergenceError",
     "InertiaError",
     "NonFiniteError",
@@ -33,6 +36,7 @@ __all__ = [
     "Principal",
     "Trajectory",
     "analyze",
+    "cancel_all",
     "errors",
     "perturbation",
     "plot",

@@ -8,6 +8,8 @@ from numpy.typing import NDArray
 
 __all__ = [
     "MassProperties",
+    "cancel_all",
+    "cancel_epoch",
     "check_torque",
     "free_rotation",
     "principal",
@@ -101,6 +103,8 @@ def simulate(
     progress: Callable[[float], object] | None = None,
 ) -> dict[str, Any]: ...
 def check_torque(torque: Any) -> None: ...
+def cancel_all() -> None: ...
+def cancel_epoch() -> int: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]
 ) -> dict[str, Any]: ...

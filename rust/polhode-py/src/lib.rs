@@ -22,4 +22,7 @@ mod _core {
 
     #[pymodule_export]
     use crate::torque::check_torque;
+
+    #[pymodule_export]
+    use crate::watch::{cancel_all, cancel_epoch};
 }
