@@ -11,6 +11,7 @@ mod mesh;
 mod points;
 mod solids;
 
+pub use mesh::MESH_CHUNK;
 pub use points::POINT_CHUNK;
 
 use std::ops::Add;
