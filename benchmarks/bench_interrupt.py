@@ -1,6 +1,7 @@
 """How fast Ctrl-C stops a long polhode call, and how fast polhode.dask's workers go idle after it.
 
-    python -m benchmarks.bench_interrupt [--repeats R] [--scale S] [--only NAME ...] [--no-dask]
+    python -m benchmarks.bench_interrupt [--quick] [--repeats R] [--scale S] [--only NAME ...]
+        [--no-dask]
 
 Each long call is first run to its end once (its wall and CPU time), then R times interrupted:
 a helper thread waits until the call has used a fraction f of that CPU time (f spread over
@@ -8,10 +9,10 @@ a helper thread waits until the call has used a fraction f of that CPU time (f s
 conversions included), sends SIGINT to the process and notes the time; the latency is from
 there to the KeyboardInterrupt in the main thread. The table gives the median and the largest.
 
-The calls (``--scale`` multiplies their size): a single-body exact run with 1e7 output times,
-``principal`` on 1e7 tensors, ``Body.point_masses`` with 1e7 points, ``Body.mesh`` of a torus
-with 1.8e7 faces, and a batch of 2000 bodies with each method (2000 outputs for the exact
-solution, 2e4 steps of 0.01 for the fixed-step methods).
+The calls (``--scale`` multiplies their size; ``--quick`` is a tenth, 3 repeats): a single-body
+exact run with 1e7 output times, ``principal`` on 1e7 tensors, ``Body.point_masses`` with 1e7
+points, ``Body.mesh`` of a torus with 1.8e7 faces, and a batch of 2000 bodies with each method
+(2000 outputs for the exact solution, 2e4 steps of 0.01 for the fixed-step methods).
 
 The Dask case (threaded scheduler, 2 workers, blocks of one body that take seconds each): SIGINT
 once every worker is inside its polhode call; after the KeyboardInterrupt, the time until every
@@ -92,12 +93,10 @@ def calls(scale: float) -> dict[str, Callable[[], Any]]:
 def interrupted(call: Callable[[], Any], cpu_at: float) -> float | None:
     """Runs `call`, sends SIGINT once the process has used `cpu_at` s of CPU since the start;
     the latency from the signal to KeyboardInterrupt (None if the call ended first)."""
-    started = threading.Event()
     done = threading.Event()
     sent: list[float] = []
 
     def sender() -> None:
-        started.wait()
         cpu0 = time.process_time()
         while not done.is_set():
             if time.process_time() - cpu0 >= cpu_at:
@@ -107,18 +106,20 @@ def interrupted(call: Callable[[], Any], cpu_at: float) -> float | None:
             time.sleep(0.002)
 
     thread = threading.Thread(target=sender)
-    thread.start()
+    returned = False
     try:
-        started.set()
-        call()
+        try:
+            thread.start()
+            call()
+            returned = True
+        finally:
+            caught = time.perf_counter()
+            done.set()
+            thread.join()
+        time.sleep(0.05)  # a signal sent as the call returned is raised here
     except KeyboardInterrupt:
-        caught = time.perf_counter()
-        done.set()
-        thread.join()
-        return caught - sent[0]
-    done.set()
-    thread.join()
-    return None
+        pass
+    return None if returned or not sent else caught - sent[0]
 
 
 def measure_calls(names: list[str] | None, repeats: int, scale: float) -> None:
@@ -220,7 +221,10 @@ def main() -> None:
     parser.add_argument("--scale", type=float, default=1.0)
     parser.add_argument("--only", nargs="*", default=None)
     parser.add_argument("--no-dask", action="store_true")
+    parser.add_argument("--quick", action="store_true", help="--scale 0.1 --repeats 3")
     args = parser.parse_args()
+    if args.quick:
+        args.scale, args.repeats = 0.1, 3
     signal.signal(signal.SIGINT, signal.default_int_handler)
     print(f"# bench_interrupt: {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
     measure_calls(args.only, args.repeats, args.scale)
