@@ -3,6 +3,7 @@ polhode.analyze per body) call, in process and on a two-worker distributed clust
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -271,3 +272,46 @@ def test_cluster_gives_identical_numbers(client, bodies):
         "body",
         160,
     )
+
+
+def test_ctrl_c_idles_the_cluster_workers(client):
+    # The worker processes do not see this process's SIGINT: after the KeyboardInterrupt,
+    # DaskTrajectory.compute runs polhode.cancel_all on every worker. Measured by the workers'
+    # CPU time (psutil): they go idle, where before they ran their blocks to the end (about 8 s
+    # of CPU each, one per worker). Helpers and bounds: tests/test_interrupt.py.
+    psutil = pytest.importorskip("psutil")
+    from test_interrupt import CPU_BOUND, cpu_until_idle, interrupt, sigint_raises
+
+    workers = [psutil.Process(pid) for pid in client.run(os.getpid).values()]
+    assert len(workers) == 2
+
+    def cpu(worker) -> float:
+        times = worker.cpu_times()
+        return times.user + times.system
+
+    rng = np.random.default_rng(11)
+    moments, omega0 = rng.uniform(1.0, 3.0, (4, 3)), rng.normal(size=(4, 3))
+    t = np.linspace(0.0, 2.0, 3)
+    expected = ph.simulate(moments, omega0, t, method="rk4", dt=1e-2).omega
+
+    def short_compute():
+        return phd.simulate(moments, omega0, t, method="rk4", dt=1e-2, chunks=1).compute()
+
+    # Both workers have imported polhode and run a block of it: their CPU from here on is
+    # the long blocks'.
+    np.testing.assert_array_equal(short_compute().omega, expected)
+    lazy = phd.simulate(
+        moments, omega0, [0.0, 2e5], method="rk4", dt=1e-3, max_steps=10**9, chunks=1
+    )
+    started = [cpu(w) for w in workers]
+
+    def under_way(_: float) -> bool:  # each worker has run its block for 0.3 s of CPU
+        return all(cpu(w) - c >= 0.3 for w, c in zip(workers, started, strict=True))
+
+    with sigint_raises():
+        record = interrupt(lambda: lazy.compute(), under_way)
+    assert not record.returned and isinstance(record.raised, KeyboardInterrupt), record
+    used, wall = cpu_until_idle(lambda: sum(cpu(w) for w in workers))
+    assert used <= CPU_BOUND, f"the workers used {used:.2f} s CPU in the {wall:.2f} s until idle"
+    # A later compute on the same workers runs normally.
+    np.testing.assert_array_equal(short_compute().omega, expected)

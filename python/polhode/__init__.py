@@ -6,10 +6,12 @@ Mass properties and principal axes (:class:`Body`, :func:`principal`), molecules
 """
 
 from polhode import errors, molecule, plot, torque
+from polhode._core import cancel_all
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.errors import (
     ArgumentError,
+    CancelledError,
     ConvergenceError,
     InertiaError,
     NonFiniteError,
@@ -25,6 +27,7 @@ __all__ = [
     "Analysis",
     "ArgumentError",
     "Body",
+    "CancelledError",
     "ConvergenceError",
     "InertiaError",
     "NonFiniteError",
@@ -34,6 +37,7 @@ __all__ = [
     "Principal",
     "Trajectory",
     "analyze",
+    "cancel_all",
     "errors",
     "molecule",
     "perturbation",

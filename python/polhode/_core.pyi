@@ -10,6 +10,8 @@ __all__ = [
     "METHODS",
     "SOLIDS",
     "MassProperties",
+    "cancel_all",
+    "cancel_epoch",
     "check_torque",
     "free_rotation",
     "point_masses_inertia",
@@ -88,6 +90,8 @@ def simulate(
     progress: Callable[[float], object] | None = None,
 ) -> dict[str, Any]: ...
 def check_torque(torque: Any) -> None: ...
+def cancel_all() -> None: ...
+def cancel_epoch() -> int: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]
 ) -> dict[str, Any]: ...

@@ -13,13 +13,25 @@ cores (``pip install 'polhode[dask]'``). ``import polhode`` never imports dask.
 Results are lazy: each array of a :class:`DaskTrajectory` or :class:`DaskAnalysis` is a field of
 one dask array of per-body records, so ``dask.compute(traj.omega, traj.energy)`` runs every
 block once, and ``.compute()`` gives the numpy result in one pass.
+
+Ctrl-C stops the blocks that are running, not only the wait for them. Python raises
+KeyboardInterrupt in the main thread only, while the blocks run in dask's worker threads; so a
+compute that ends in KeyboardInterrupt calls :func:`polhode.cancel_all`, and every polhode call
+running in this process stops within milliseconds (raising :class:`polhode.CancelledError` in
+its worker thread, where nobody waits for it). This holds for any compute on dask's local
+schedulers (``dask.compute(traj.omega)`` included: importing this module registers a dask
+callback that does nothing else), and for ``.compute()`` and ``.persist()`` of
+:class:`DaskTrajectory` and :class:`DaskAnalysis` on a ``dask.distributed`` client, where it
+also runs :func:`polhode.cancel_all` on every worker.
 """
 
 from __future__ import annotations
 
+import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, fields
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,9 +44,12 @@ except ImportError as error:  # pragma: no cover - exercised only without the ex
         "polhode.dask needs dask: pip install 'polhode[dask]' (dask[array] and distributed)."
     ) from error
 
+from dask.callbacks import Callback
+
 import polhode
+from polhode import _core
 from polhode._coerce import as_integer, as_scalar
-from polhode.errors import ArgumentError, PolhodeError, ShapeError
+from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
 from polhode.simulation import OUTPUTS, Trajectory, _as_float_array
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
@@ -43,6 +58,60 @@ __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
 _MAX_RECORD_BYTES = 2**31 - 1
 #: Width of the string fields of :class:`DaskAnalysis` (the longest regime has 19 characters).
 _REGIME_WIDTH = 32
+#: Bodies an analyze block runs between two looks for :func:`polhode.cancel_all` (~5 ms).
+_ANALYZE_LOOK_EVERY = 256
+
+_T = TypeVar("_T")
+
+
+# -------------------------------------------------------------------------------------------------
+# Ctrl-C: stop the blocks, not only the wait
+# -------------------------------------------------------------------------------------------------
+
+
+class _CancelOnInterrupt(Callback):  # type: ignore[misc]
+    """On dask's local schedulers: a compute that ends in KeyboardInterrupt cancels the polhode
+    calls still running in its worker threads (see the module's docstring)."""
+
+    def _finish(self, dsk: Any, state: Any, errored: bool) -> None:
+        # Called from the scheduler's `finally`: the exception on its way out is visible here.
+        if errored and isinstance(sys.exc_info()[1], KeyboardInterrupt):
+            polhode.cancel_all()
+
+
+_CancelOnInterrupt().register()
+
+
+def _distributed_client(scheduler: Any, collections: tuple[Any, ...]) -> Any:
+    """The dask.distributed client that a compute with ``scheduler`` runs on, or None."""
+    if "distributed" not in sys.modules:
+        return None
+    from distributed import Client
+
+    if isinstance(scheduler, Client):
+        return scheduler
+    try:
+        get = dask.base.get_scheduler(scheduler=scheduler, collections=list(collections))
+    except Exception:  # no client where one was asked for: not ours to report here
+        return None
+    client = getattr(get, "__self__", None)
+    return client if isinstance(client, Client) else None
+
+
+def _interruptible(run: Callable[..., _T], *collections: Any, **kwargs: Any) -> _T:
+    """``run(*collections, **kwargs)`` (dask.compute or dask.persist); on KeyboardInterrupt,
+    :func:`polhode.cancel_all` here and, on a distributed client, on every worker."""
+    try:
+        return run(*collections, **kwargs)
+    except KeyboardInterrupt:
+        polhode.cancel_all()
+        client = _distributed_client(kwargs.get("scheduler"), collections)
+        if client is not None:
+            try:
+                client.run(_core.cancel_all)
+            except Exception:  # a cluster already gone: nothing runs there any more
+                pass
+        raise
 
 
 @dataclass(frozen=True)
@@ -93,7 +162,7 @@ class DaskTrajectory:
         is the wall time of this call.
         """
         started = time.perf_counter()
-        (records,) = dask.compute(self.records, **kwargs)
+        (records,) = _interruptible(dask.compute, self.records, **kwargs)
 
         def field(name: str) -> Any:
             if name not in records.dtype.names:
@@ -111,7 +180,7 @@ class DaskTrajectory:
 
     def persist(self, **kwargs: Any) -> DaskTrajectory:
         """The same trajectory with its blocks computed and kept in (cluster) memory."""
-        (records,) = dask.persist(self.records, **kwargs)
+        (records,) = _interruptible(dask.persist, self.records, **kwargs)
         return _trajectory(records, self.t, self.method)
 
 
@@ -152,7 +221,9 @@ class DaskAnalysis:
 
     def compute(self, **kwargs: Any) -> DaskAnalysis:
         """The same analysis with numpy arrays (every block runs once)."""
-        values = dask.compute(*(getattr(self, f.name) for f in fields(self)), **kwargs)
+        values = _interruptible(
+            dask.compute, *(getattr(self, f.name) for f in fields(self)), **kwargs
+        )
         return DaskAnalysis(*(np.ascontiguousarray(v) for v in values))
 
 
@@ -492,7 +563,11 @@ def _analyze_block(
     rtol: float | None,
 ) -> NDArray[Any]:
     records = np.empty(moments.shape[0], dtype=_ANALYSIS_DTYPE)
+    # Many short calls, none long enough to be watched: the block looks for cancel_all itself.
+    epoch = _core.cancel_epoch()
     for k in range(moments.shape[0]):
+        if k % _ANALYZE_LOOK_EVERY == 0 and k and _core.cancel_epoch() != epoch:
+            raise CancelledError("polhode.cancel_all() stopped this block.")
         try:
             a = polhode.analyze(moments[k], omega0[k], rtol)
         except PolhodeError as error:

@@ -6,7 +6,8 @@ Every class derives from :class:`PolhodeError`, itself a :class:`ValueError`, an
 - ``body``: in a batch, the index of the body at fault, or None.
 
 ``str(error)`` is the message, prefixed with ``body K:`` in a batch. Wrong types raise
-:class:`TypeError`; a run stopped by Ctrl-C raises :class:`KeyboardInterrupt`.
+:class:`TypeError`; a run stopped by Ctrl-C raises :class:`KeyboardInterrupt`, and one stopped by
+:func:`polhode.cancel_all` (on any thread) raises :class:`CancelledError`.
 
 Examples
 --------
@@ -24,6 +25,7 @@ from typing import Any
 
 __all__ = [
     "ArgumentError",
+    "CancelledError",
     "ConvergenceError",
     "InertiaError",
     "NonFiniteError",
@@ -91,3 +93,15 @@ class ArgumentError(PolhodeError):
 class ConvergenceError(PolhodeError):
     """An iterative method that did not converge (e.g. the implicit midpoint's Newton
     iteration on a step too large for the motion)."""
+
+
+class CancelledError(BaseException):
+    """A run stopped by :func:`polhode.cancel_all`, raised in the thread that ran it.
+
+    Ctrl-C raises :class:`KeyboardInterrupt` in the main thread only; :func:`polhode.cancel_all`
+    is how it reaches polhode calls running on other threads (a thread pool, dask's workers).
+    Like KeyboardInterrupt (and :class:`asyncio.CancelledError`) it derives from
+    :class:`BaseException`, so that an ``except Exception`` around the call does not swallow
+    it, while schedulers that stop on KeyboardInterrupt (dask.distributed's workers) treat it
+    as the failure of one task.
+    """

@@ -224,7 +224,9 @@ def simulate(
 
         Whatever ``progress`` is, Ctrl-C interrupts a long run (single or batch) with
         KeyboardInterrupt within about 50 ms plus the time of a few thousand steps; watching
-        costs the integration nothing measurable.
+        costs the integration nothing measurable. Ctrl-C reaches the main thread only: a run
+        on another thread stops when :func:`polhode.cancel_all` is called, and raises
+        :class:`polhode.CancelledError` there.
 
     Returns
     -------

@@ -29,6 +29,9 @@ mod _core {
     #[pymodule_export]
     use crate::torque::check_torque;
 
+    #[pymodule_export]
+    use crate::watch::{cancel_all, cancel_epoch};
+
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add("SOLIDS", crate::mass::solids(m.py())?)?;

@@ -146,16 +146,20 @@ impl PyMassProperties {
                 ))
             }
         };
-        Ok(py.detach(|| {
-            wrap(MassProperties::mesh(
+        // A large mesh runs watched: Ctrl-C stops it at its next chunk of faces.
+        let long = faces.len() > 2 * polhode::mass::MESH_CHUNK;
+        let body = watched(py, long, |monitor| {
+            MassProperties::mesh_monitored(
                 vertices,
                 faces,
                 density,
                 mass,
                 shell,
                 fix_winding,
-            ))
-        })?)
+                monitor,
+            )
+        })?;
+        Ok(Self(body))
     }
 
     /// The analytic solid `kind` (a row of the core's `SOLIDS`) of `mass`, its parameters by

@@ -1,10 +1,17 @@
-//! The calling thread's watch over a long run: Ctrl-C and progress, polled while the core
+//! The watch over a long run: Ctrl-C, [`cancel_all`] and progress, polled while the core
 //! works with the GIL released.
 //!
 //! Every [`POLL`] of a long run, the calling thread looks for Ctrl-C (`check_signals`) and
-//! reports progress ([`Watch`]); on an exception it cancels the run through its [`Monitor`]
-//! and raises once the run has stopped.
+//! reports progress ([`Watch`]); at each look of the run, on whichever thread, the watch also
+//! compares the process-wide cancellation epoch with the one the call started in. On an
+//! exception, or once the epoch has moved, it cancels the run through its [`Monitor`] and
+//! raises once the run has stopped.
+//!
+//! Python delivers signals to the main thread only: a call running on another thread (a
+//! `ThreadPoolExecutor`, dask's workers) cannot see Ctrl-C, so [`cancel_all`] is how the main
+//! thread's KeyboardInterrupt reaches it.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, RecvTimeoutError, TryRecvError};
 use std::sync::Mutex;
 use std::thread::ThreadId;
@@ -13,6 +20,33 @@ use std::time::{Duration, Instant};
 use polhode::dynamics::Monitor;
 use pyo3::prelude::*;
 
+pyo3::import_exception!(polhode.errors, CancelledError);
+
+/// The process-wide cancellation epoch: [`cancel_all`] advances it, and every watched call
+/// stops once it differs from the value it read when it started. A count, not a flag: a
+/// cancel reaches the calls running when it is made, never a later one.
+static CANCEL_EPOCH: AtomicU64 = AtomicU64::new(0);
+
+/// Cancels every polhode call running in this process, on any thread: each stops at its next
+/// look (within milliseconds) and raises `polhode.errors.CancelledError` in its own thread.
+/// Calls started afterwards run normally.
+///
+/// Ctrl-C raises KeyboardInterrupt in the main thread only, and stops a polhode call running
+/// there; a call on another thread (a thread pool, dask's workers) runs on until this is
+/// called, e.g. in the main thread's `except KeyboardInterrupt:`. `polhode.dask` calls it
+/// when its compute is interrupted.
+#[pyfunction]
+pub fn cancel_all() {
+    CANCEL_EPOCH.fetch_add(1, Ordering::SeqCst);
+}
+
+/// The number of [`cancel_all`] calls so far in this process: a loop of short calls (each too
+/// short to be watched) reads it when it starts and stops once it has changed.
+#[pyfunction]
+pub fn cancel_epoch() -> u64 {
+    CANCEL_EPOCH.load(Ordering::SeqCst)
+}
+
 /// How often a long run looks for Ctrl-C and reports progress.
 const POLL: Duration = Duration::from_millis(50);
 
@@ -20,11 +54,15 @@ const POLL: Duration = Duration::from_millis(50);
 /// returns without the ~10 us of a sleep and a wake-up.
 const SPIN: Duration = Duration::from_micros(100);
 
-/// The calling thread's watch over a run: every [`POLL`] it attaches, checks the signals
-/// (Ctrl-C raises KeyboardInterrupt there) and calls `progress(fraction)`. An exception from
-/// either is kept to be raised, and cancels the monitor: the run stops at its next look.
+/// The watch over a run: every [`POLL`] the calling thread attaches, checks the signals
+/// (Ctrl-C raises KeyboardInterrupt there) and calls `progress(fraction)`; at every look, on
+/// any thread, the epoch of [`cancel_all`] is compared with the call's. An exception, or a
+/// moved epoch (`CancelledError`), is kept to be raised, and cancels the monitor: the run
+/// stops at its next look.
 pub(crate) struct Watch {
     caller: ThreadId,
+    /// [`CANCEL_EPOCH`] when the call started.
+    epoch: u64,
     pub(crate) progress: Option<Py<PyAny>>,
     /// Bodies, and the span `t_end - t0` of each.
     n: usize,
@@ -37,6 +75,7 @@ impl Watch {
     pub(crate) fn new(progress: Option<Py<PyAny>>, n: usize, span: f64) -> Self {
         Self {
             caller: std::thread::current().id(),
+            epoch: CANCEL_EPOCH.load(Ordering::SeqCst),
             progress,
             n,
             span,
@@ -55,10 +94,21 @@ impl Watch {
         done.clamp(0.0, 1.0)
     }
 
-    /// Polls if on the calling thread and [`POLL`] has passed since the last poll (or
-    /// `force`). Called at each look of a run (every few thousand steps), on any thread.
+    /// Cancels the run if [`cancel_all`] was called since it started; then polls if on the
+    /// calling thread and [`POLL`] has passed since the last poll (or `force`). Called at each
+    /// look of a run (every few thousand steps), on any thread.
     pub(crate) fn poll(&self, monitor: &Monitor, force: bool) {
-        if std::thread::current().id() != self.caller || monitor.is_cancelled() {
+        if monitor.is_cancelled() {
+            return;
+        }
+        if CANCEL_EPOCH.load(Ordering::Relaxed) != self.epoch {
+            self.stop(
+                monitor,
+                CancelledError::new_err("polhode.cancel_all() stopped this run."),
+            );
+            return;
+        }
+        if std::thread::current().id() != self.caller {
             return;
         }
         let now = Instant::now();
@@ -77,11 +127,17 @@ impl Watch {
             Ok(())
         });
         if let Err(error) = polled {
-            if let Ok(mut slot) = self.raised.lock() {
-                slot.get_or_insert(error);
-            }
-            monitor.cancel();
+            self.stop(monitor, error);
         }
+    }
+
+    /// Keeps `error` to be raised (the first one, if several threads stop the run at once) and
+    /// cancels the monitor.
+    fn stop(&self, monitor: &Monitor, error: PyErr) {
+        if let Ok(mut slot) = self.raised.lock() {
+            slot.get_or_insert(error);
+        }
+        monitor.cancel();
     }
 
     pub(crate) fn take_raised(&self) -> Option<PyErr> {

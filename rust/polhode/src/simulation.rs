@@ -437,15 +437,27 @@ pub fn orientation_from_matrix(name: &str, r: &Matrix3<f64>) -> Result<UnitQuate
     ))
 }
 
+/// Outputs written between two looks at the monitor (a few hundred microseconds).
+const OUTPUT_LOOK_EVERY: usize = 4096;
+
 /// `len` zeros, or [`Error::OutOfMemory`] (the whole output being `bytes`) if the allocation
 /// fails, rather than an abort.
+///
+/// Allocated zeroed (`calloc`): a large block comes as fresh zero pages from the system, not
+/// written here, so an output of gigabytes costs nothing before the run (writing the zeros
+/// took seconds that Ctrl-C could not interrupt) and its pages are touched once, by the run.
 fn zeros(len: usize, bytes: f64) -> Result<Vec<f64>> {
-    let mut v = Vec::new();
-    if v.try_reserve_exact(len).is_err() {
+    if len == 0 {
+        return Ok(Vec::new());
+    }
+    let layout = std::alloc::Layout::array::<f64>(len).map_err(|_| Error::OutOfMemory { bytes })?;
+    // SAFETY: `layout` has a non-zero size; all-zero bits are the f64 0.0.
+    let data = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<f64>();
+    if data.is_null() {
         return Err(Error::OutOfMemory { bytes });
     }
-    v.resize(len, 0.0);
-    Ok(v)
+    // SAFETY: allocated by the global allocator with the layout of `len` f64s, all initialised.
+    Ok(unsafe { Vec::from_raw_parts(data, len, len) })
 }
 
 /// A slice of an output column handed to one body; the bodies' ranges are disjoint.
@@ -557,6 +569,12 @@ pub fn simulate(
         unsafe { moments_column.rows(i, 3) }.copy_from_slice(body.moments.moments().as_slice());
         let mut previous = None;
         for (j, omega) in trajectory.omega.iter().enumerate() {
+            // Writing millions of outputs takes a while: looks at the monitor as a run does.
+            if j % OUTPUT_LOOK_EVERY == OUTPUT_LOOK_EVERY - 1 {
+                if let Some(monitor) = monitor {
+                    monitor.look()?;
+                }
+            }
             let sample = Sample {
                 body: &body,
                 omega,

@@ -456,3 +456,61 @@ fn two_boxes_sharing_an_edge_are_non_manifold() {
     let e = MassProperties::mesh(&v, &f, Some(1.0), None, false, false).unwrap_err();
     assert!(e.to_string().contains("non-manifold"), "{e}");
 }
+
+#[test]
+fn a_cancel_stops_a_mesh_at_any_look_and_watching_changes_no_bit() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+
+    use polhode::dynamics::Monitor;
+    use polhode::mass::MESH_CHUNK;
+
+    // 81920 faces: two blocks of the closedness check, twenty chunks of the integrals.
+    let (v, f) = icosphere(6, 1.0);
+    assert!(f.len() > MESH_CHUNK);
+    for shell in [false, true] {
+        let plain = MassProperties::mesh(&v, &f, Some(1.0), None, shell, false).unwrap();
+        // Counted: the looks of a whole call, which changes no bit of the result.
+        let looks = Arc::new(AtomicUsize::new(0));
+        let counting = Monitor::with_on_look({
+            let looks = Arc::clone(&looks);
+            move |_| {
+                looks.fetch_add(1, Ordering::Relaxed);
+            }
+        });
+        let watched =
+            MassProperties::mesh_monitored(&v, &f, Some(1.0), None, shell, false, Some(&counting))
+                .unwrap();
+        assert_eq!(watched.mass().to_bits(), plain.mass().to_bits());
+        assert_eq!(watched.center_of_mass(), plain.center_of_mass());
+        assert_eq!(watched.second_moment(), plain.second_moment());
+        let total = looks.load(Ordering::Relaxed);
+        assert!(total >= 20, "{total} looks");
+        // Cancelled at the first, a middle or the last look: interrupted, never a result.
+        for at in [1, total / 2, total] {
+            let seen = Arc::new(AtomicUsize::new(0));
+            let monitor = Monitor::with_on_look({
+                let seen = Arc::clone(&seen);
+                move |monitor| {
+                    if seen.fetch_add(1, Ordering::Relaxed) + 1 == at {
+                        monitor.cancel();
+                    }
+                }
+            });
+            let result = MassProperties::mesh_monitored(
+                &v,
+                &f,
+                Some(1.0),
+                None,
+                shell,
+                false,
+                Some(&monitor),
+            );
+            assert_eq!(
+                result.unwrap_err(),
+                Error::Interrupted,
+                "shell {shell}, look {at}"
+            );
+        }
+    }
+}

@@ -211,6 +211,29 @@ fn a_cancelled_run_is_interrupted_not_a_body_error() {
 }
 
 #[test]
+fn a_cancel_while_the_outputs_are_written_stops_the_run() {
+    // The exact solution at 20 000 times: once the run has finished (`finished() == 1`), the
+    // outputs are written in the body's own axes, looking at the monitor as the run did; a
+    // cancel then still stops the call (writing 1e7 outputs takes a second).
+    let monitor = Monitor::with_on_look(|monitor| {
+        if monitor.finished() == 1 {
+            monitor.cancel();
+        }
+    });
+    let t: Vec<f64> = (0..20_000).map(|k| f64::from(k) * 1e-2).collect();
+    let body = Body::Moments(Vector3::new(1.0, 2.0, 3.0));
+    let omega0 = Vector3::new(0.3, 1.0, 0.2);
+    let run = Simulation::new(Method::Exact);
+    let q0 = [UnitQuaternion::identity()];
+    let error = simulate(&run, &[body], &[omega0], &q0, &t, Some(&monitor)).unwrap_err();
+    assert_eq!(error, Error::Interrupted);
+    assert_eq!(monitor.finished(), 1);
+    // Not cancelled: the same call completes, every output written.
+    let out = simulate(&run, &[body], &[omega0], &q0, &t, Some(&Monitor::new())).unwrap();
+    assert_eq!(out.m, t.len());
+}
+
+#[test]
 fn gravity_takes_mass_and_centre_of_mass_from_a_body() {
     let top = MassProperties::cone(1.0, 0.3, 1.0).unwrap();
     let pivot = Vector3::new(0.0, 0.0, 0.0);

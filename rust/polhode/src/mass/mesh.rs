@@ -17,11 +17,22 @@ use rayon::prelude::*;
 
 use super::factor::SecondMoment;
 use super::{out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
+use crate::dynamics::Monitor;
 use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
 
-/// Triangles per parallel chunk.
+/// Triangles per parallel chunk of the integrals.
 const CHUNK: usize = 1 << 12;
+
+/// Triangles (or vertices) between two looks at the monitor in
+/// [`MassProperties::mesh_monitored`] (a millisecond or less of work): a mesh of more than two
+/// such blocks is worth watching.
+pub const MESH_CHUNK: usize = 1 << 16;
+
+/// A look at `monitor`, if any.
+fn look(monitor: Option<&Monitor>) -> Result<()> {
+    monitor.map_or(Ok(()), Monitor::look)
+}
 
 /// Triangles summed plainly before a compensated add.
 const BLOCK: usize = 16;
@@ -178,12 +189,15 @@ fn check_input(vertices: &[[f64; 3]], faces: &[[i64; 3]], shell: bool) -> Result
 /// for its direction (a counting sort, O(faces + vertices)); each small bucket is then sorted and
 /// must consist of pairs `(w, forward), (w, backward)`. Faces repeat no vertex and indices are in
 /// range (checked before).
-fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
+fn check_closed(faces: &[[i64; 3]], vertex_count: usize, monitor: Option<&Monitor>) -> Result<()> {
     let edges = |f: &[i64; 3]| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])];
     let mut offsets = vec![0u32; vertex_count + 1];
-    for f in faces {
-        for (u, v) in edges(f) {
-            offsets[u.min(v) as usize + 1] += 1;
+    for block in faces.chunks(MESH_CHUNK) {
+        look(monitor)?;
+        for f in block {
+            for (u, v) in edges(f) {
+                offsets[u.min(v) as usize + 1] += 1;
+            }
         }
     }
     for i in 0..vertex_count {
@@ -191,11 +205,14 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
     }
     let mut cursor = offsets.clone();
     let mut entries = vec![0u32; 3 * faces.len()];
-    for f in faces {
-        for (u, v) in edges(f) {
-            let slot = &mut cursor[u.min(v) as usize];
-            entries[*slot as usize] = ((u.max(v) as u32) << 1) | u32::from(u > v);
-            *slot += 1;
+    for block in faces.chunks(MESH_CHUNK) {
+        look(monitor)?;
+        for f in block {
+            for (u, v) in edges(f) {
+                let slot = &mut cursor[u.min(v) as usize];
+                entries[*slot as usize] = ((u.max(v) as u32) << 1) | u32::from(u > v);
+                *slot += 1;
+            }
         }
     }
     drop(cursor);
@@ -215,7 +232,7 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
     }
     // Per range: the first directed edge used twice, and the first edge without its reverse.
     type Found = (Option<(u64, u64)>, Option<(u64, u64)>);
-    let found: Vec<Found> = parts
+    let found: Vec<Result<Found>> = parts
         .into_par_iter()
         .map(|(first, part)| {
             let (mut repeated, mut unpaired) = (None, None);
@@ -223,6 +240,9 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
             let base = offsets[first] as usize;
             let mut u = first;
             while start < part.len() {
+                if (u - first) % MESH_CHUNK == 0 {
+                    look(monitor)?;
+                }
                 let end = offsets[u + 1] as usize - base;
                 let bucket = &mut part[start..end];
                 bucket.sort_unstable();
@@ -260,9 +280,10 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
                 start = end;
                 u += 1;
             }
-            (repeated, unpaired)
+            Ok((repeated, unpaired))
         })
         .collect();
+    let found = found.into_iter().collect::<Result<Vec<Found>>>()?;
     if let Some((u, v)) = found.iter().find_map(|f| f.0) {
         return Err(invalid(
             "faces",
@@ -287,7 +308,8 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize) -> Result<()> {
 
 /// The compensated sums over all triangles, about the vertex mean, in units of `2^k`, with
 /// that reference point and `k` (vertices are taken as `(v - reference) 2^-k`, of size at most
-/// 1); `None` if the vertices span more than the range of double precision.
+/// 1); `None` if the vertices span more than the range of double precision. Looks at `monitor`
+/// before each chunk of triangles.
 ///
 /// Every parallel sum is a fixed tree: per chunk of [`CHUNK`] items, the chunks' sums then added
 /// in order on one thread, so the result does not depend on the number of threads.
@@ -295,7 +317,8 @@ fn integrate(
     vertices: &[[f64; 3]],
     faces: &[[i64; 3]],
     shell: bool,
-) -> Option<(Sums, Vector3<f64>, i32)> {
+    monitor: Option<&Monitor>,
+) -> Result<Option<(Sums, Vector3<f64>, i32)>> {
     // The reference point: the vertex mean, summed relative to a vertex of the mesh, in units of
     // the mesh's extent (so that neither the differences nor their sum overflow).
     let anchor = Vector3::from(vertices[faces[0][0] as usize]);
@@ -308,7 +331,7 @@ fn integrate(
         })
         .reduce(|| 0.0, f64::max);
     if !extent.is_finite() {
-        return None;
+        return Ok(None);
     }
     let e = exponent(extent);
     let spreads: Vec<Vector3<f64>> = vertices
@@ -327,9 +350,10 @@ fn integrate(
 
     let vertex =
         |i: i64| Vector3::from(vertices[i as usize]).map(|x| ldexp(x, -k)) - reference_scaled;
-    let chunks: Vec<Sums> = faces
+    let chunks: Vec<Result<Sums>> = faces
         .par_chunks(CHUNK)
         .map(|chunk| {
+            look(monitor)?;
             let mut sums = Sums::ZERO;
             // Plain sums over short blocks (error ~ BLOCK eps of the block's own terms),
             // blocks added with TwoSum.
@@ -350,11 +374,14 @@ fn integrate(
                 }
                 sums.add(&local, abs_weight);
             }
-            sums
+            Ok(sums)
         })
         .collect();
-    let sums = chunks.into_iter().fold(Sums::ZERO, Sums::merge);
-    Some((sums, reference, k))
+    let mut sums = Sums::ZERO;
+    for chunk in chunks {
+        sums = sums.merge(chunk?);
+    }
+    Ok(Some((sums, reference, k)))
 }
 
 /// `x` as `(f, e)` with `x = f 2^e` and `0.5 <= |f| < 1` (0 as `(0, 0)`).
@@ -403,6 +430,22 @@ impl MassProperties {
         shell: bool,
         fix_winding: bool,
     ) -> Result<Self> {
+        Self::mesh_monitored(vertices, faces, density, mass, shell, fix_winding, None)
+    }
+
+    /// [`mesh`](Self::mesh) watched by `monitor`: a look ([`Monitor::look`]) before each block
+    /// of [`MESH_CHUNK`] triangles of the closedness check and each chunk of the integrals,
+    /// so that a cancelled monitor stops the work within a block, with
+    /// [`Error::Interrupted`]. The result does not depend on the monitor.
+    pub fn mesh_monitored(
+        vertices: &[[f64; 3]],
+        faces: &[[i64; 3]],
+        density: Option<f64>,
+        mass: Option<f64>,
+        shell: bool,
+        fix_winding: bool,
+        monitor: Option<&Monitor>,
+    ) -> Result<Self> {
         match (density, mass) {
             (Some(d), None) => {
                 positive("density", d)?;
@@ -426,12 +469,13 @@ impl MassProperties {
                 if shell {
                     Ok(())
                 } else {
-                    check_closed(faces, vertices.len())
+                    check_closed(faces, vertices.len(), monitor)
                 }
             },
-            || integrate(vertices, faces, shell),
+            || integrate(vertices, faces, shell, monitor),
         );
         closed?;
+        let integrated = integrated?;
         // Which argument drives the size of the result (log2 of its contribution), for an
         // error: the mass or density, or the vertices' extent (to the fifth power with a
         // density, the second with a mass).

@@ -15,6 +15,7 @@ mod solids;
 pub use frames::{
     point_masses_inertia, point_masses_inertia_monitored, Position, FRAME_POINTS_CHUNK,
 };
+pub use mesh::MESH_CHUNK;
 pub use points::POINT_CHUNK;
 pub use solids::{Solid, SOLIDS};
 

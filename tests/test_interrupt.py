@@ -1,0 +1,407 @@
+"""Ctrl-C stops every long call, and polhode.cancel_all() stops calls on every thread.
+
+Each test sends SIGINT to this process from a helper thread once the call is known to be under
+way (its first progress report, or the CPU time it has used), never after a fixed sleep, and
+then asserts what polhode did: the call raised KeyboardInterrupt and used little CPU after the
+signal, where running on would have cost seconds. CPU time counts only what this process ran, so
+a loaded machine slows the test without failing it; the wall-clock bounds are loose backstops.
+
+The calls are sized so that each would take seconds of CPU to finish (a regression then fails,
+slowly, rather than hangs); stopped early they touch little of their output (allocated zeroed,
+it is not written before the run).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pytest
+
+import polhode as ph
+
+pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to itself is POSIX")
+
+#: Process CPU time a call may use between the signal and its KeyboardInterrupt. Measured: 0.01
+#: to 0.2 s (the 50 ms between two looks for Ctrl-C, on up to two busy threads, and freeing the
+#: pages the call had written). A call that ignored the signal would use all it had left (at
+#: least REMAINING below).
+CPU_BOUND = 1.0
+#: What a call must have had left when the signal came (its full CPU time minus what it had
+#: used), so that running to the end would fail CPU_BOUND.
+REMAINING = 2 * CPU_BOUND
+#: Wall-clock backstop from the signal to the KeyboardInterrupt: the figure is about 0.05 s,
+#: but a machine loaded several times over can keep this process off its cores for seconds.
+WALL_BOUND = 10.0
+
+
+@contextlib.contextmanager
+def sigint_raises() -> Iterator[None]:
+    """SIGINT raises KeyboardInterrupt in the main thread (whatever the runner installed)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@pytest.fixture(autouse=True)
+def default_sigint():
+    with sigint_raises():
+        yield
+
+
+@dataclass
+class Interrupted:
+    returned: bool  # the call ran to its end (the signal came too late)
+    raised: BaseException | None
+    cpu_before: float  # process CPU from the call's start to the signal
+    cpu_after: float  # process CPU from the signal to the end of the call
+    latency: float  # wall time from the signal to the end of the call
+
+
+def interrupt(call: Callable[[], Any], ready: Callable[[float], bool]) -> Interrupted:
+    """Runs `call()` on the main thread; a helper thread sends SIGINT to this process once
+    `ready(cpu)` holds (`cpu`: process CPU time since the call started), polled every ms."""
+    sent: dict[str, float] = {}
+    stop = threading.Event()
+    cpu0 = time.process_time()
+
+    def sender() -> None:
+        while not stop.is_set():
+            cpu = time.process_time()
+            if ready(cpu - cpu0):
+                sent["wall"], sent["cpu"] = time.perf_counter(), cpu
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+            stop.wait(0.001)
+
+    thread = threading.Thread(target=sender, daemon=True)
+    returned, raised = False, None
+    try:
+        try:
+            thread.start()
+            call()
+            returned = True
+        finally:
+            ended_wall, ended_cpu = time.perf_counter(), time.process_time()
+            stop.set()
+            thread.join()
+        time.sleep(0.05)  # a signal sent as the call returned is raised here, not later
+    except KeyboardInterrupt as error:
+        raised = error
+    assert "wall" in sent, "the call ended before it was ready to be interrupted"
+    return Interrupted(
+        returned=returned,
+        raised=raised,
+        cpu_before=sent["cpu"] - cpu0,
+        cpu_after=ended_cpu - sent["cpu"],
+        latency=ended_wall - sent["wall"],
+    )
+
+
+def assert_stopped(record: Interrupted, full_cpu: float, what: str) -> None:
+    """The call raised KeyboardInterrupt, within CPU_BOUND of CPU after the signal, and would
+    have needed at least REMAINING more to finish (else the test proves nothing)."""
+    figures = (
+        f"{what}: {record.cpu_after:.3f} s CPU and {record.latency:.3f} s wall after the signal; "
+        f"{record.cpu_before:.2f} s CPU before it, of about {full_cpu:.1f} s for the whole call"
+    )
+    assert not record.returned, "ran to its end: " + figures
+    assert isinstance(record.raised, KeyboardInterrupt), figures
+    assert full_cpu - record.cpu_before >= REMAINING, "the call is too short to test: " + figures
+    assert record.cpu_after <= CPU_BOUND, figures
+    assert record.latency <= WALL_BOUND, figures
+
+
+# ---------------------------------------------------------------------------------------------
+# simulate: one body and batches, every method
+# ---------------------------------------------------------------------------------------------
+
+
+def batch(n: int) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(3)
+    return rng.uniform(1.0, 3.0, (n, 3)), rng.normal(size=(n, 3))
+
+
+# Each about 10-30 s of CPU to the end (2 cores, measured): 64 bodies, 11 output times, or the
+# exact solution at 3e5 output times each (orientation=False keeps the output small).
+SIMULATE_CASES = {
+    "exact, one body, 1e7 outputs": lambda: (
+        (1.0, 2.0, 3.0),
+        (0.3, 1.0, 0.2),
+        np.linspace(0.0, 1e5, 10**7),
+        {"method": "exact"},
+    ),
+    "exact, batch": lambda: (
+        *batch(64),
+        np.linspace(0.0, 1e4, 3 * 10**5),
+        {"method": "exact", "orientation": False},
+    ),
+    "splitting, batch": lambda: (
+        *batch(64),
+        np.linspace(0, 1500, 11),
+        {"method": "splitting", "dt": 1e-3},
+    ),
+    "midpoint, batch": lambda: (
+        *batch(64),
+        np.linspace(0, 7000, 11),
+        {"method": "midpoint", "dt": 1e-3},
+    ),
+    "rk4, batch": lambda: (*batch(64), np.linspace(0, 1e4, 11), {"method": "rk4", "dt": 1e-3}),
+    "dop853, batch": lambda: (
+        *batch(64),
+        np.linspace(0, 1e5, 11),
+        {"method": "dop853", "rtol": 1e-12},
+    ),
+    "dop853, torque model": lambda: (
+        *batch(64),
+        np.linspace(0, 3e4, 11),
+        {"method": "dop853", "rtol": 1e-12, "torque": ph.torque.BodyFixed([0.0, 0.0, 1e-3])},
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(SIMULATE_CASES))
+def test_ctrl_c_stops_simulate(case):
+    body, omega0, t, options = SIMULATE_CASES[case]()
+    fractions: list[float] = []
+    at_signal: list[float] = []
+
+    def ready(cpu: float) -> bool:
+        # Under way: the run has reported progress (its first look, 50 ms in).
+        if fractions and fractions[-1] > 0:
+            at_signal.append(fractions[-1])
+            return True
+        return False
+
+    record = interrupt(
+        lambda: ph.simulate(body, omega0, t, progress=fractions.append, **options), ready
+    )
+    # The whole run's CPU, from the rate until the signal (the fraction is the time integrated).
+    fraction = at_signal[0]
+    assert_stopped(record, record.cpu_before / fraction, f"{case} (at {100 * fraction:.1f}%)")
+
+
+# ---------------------------------------------------------------------------------------------
+# principal on 1e7 tensors
+# ---------------------------------------------------------------------------------------------
+
+
+def test_ctrl_c_stops_principal():
+    rng = np.random.default_rng(5)
+    base = rng.normal(size=(1000, 3, 3))
+    base = base + base.transpose(0, 2, 1)
+    probe = np.ascontiguousarray(np.tile(base, (1000, 1, 1)))  # 1e6 tensors, to scale from
+    started = time.process_time()
+    ph.principal(probe)
+    full_cpu = 10 * (time.process_time() - started)
+    del probe
+    tensors = np.ascontiguousarray(np.tile(base, (10_000, 1, 1)))  # 1e7 tensors, 720 MB
+    record = interrupt(lambda: ph.principal(tensors), lambda cpu: cpu >= 0.3)
+    assert_stopped(record, full_cpu, "principal, 1e7 tensors")
+
+
+# ---------------------------------------------------------------------------------------------
+# cancel_all: calls on other threads, and never a later call
+# ---------------------------------------------------------------------------------------------
+
+
+def long_run(kind: str, progress: Callable[[float], object]) -> None:
+    """A run of minutes on the calling thread: one body, or a batch (on the rayon pool)."""
+    if kind == "batch":
+        moments, omega0 = batch(64)
+        ph.simulate(moments, omega0, 1e5, method="rk4", dt=1e-3, progress=progress)
+    else:
+        ph.simulate(
+            (1.0, 2.0, 3.0),
+            (0.1, 1.0, 0.1),
+            1e6,
+            method="rk4",
+            dt=1e-3,
+            max_steps=10**10,
+            progress=progress,
+        )
+
+
+class Worker(threading.Thread):
+    """A long run on a thread of its own: `under_way` once it reports progress; then
+    `outcome` ("returned" or the exception raised) and the thread's CPU time."""
+
+    def __init__(self, kind: str):
+        super().__init__()
+        self.kind = kind
+        self.under_way = threading.Event()
+        self.outcome: Any = None
+        self.cpu = 0.0
+
+    def run(self) -> None:
+        started = time.thread_time()
+        try:
+            long_run(self.kind, lambda fraction: fraction > 0 and self.under_way.set())
+            self.outcome = "returned"
+        except BaseException as error:  # what the thread raised is the result
+            self.outcome = error
+        self.cpu = time.thread_time() - started
+
+
+def test_cancel_all_stops_calls_on_other_threads_and_no_later_call():
+    # One body runs on its own thread; a batch runs on the rayon pool while its thread polls.
+    # (Two batches at once would share the pool: the second waits for the first to finish.)
+    # A cancel made before the calls start does not reach them: they report progress.
+    ph.cancel_all()
+    workers = [Worker("single"), Worker("batch")]
+    for worker in workers:
+        worker.start()
+    for worker in workers:
+        assert worker.under_way.wait(60), "a run started after cancel_all was cancelled"
+    cancelled = time.perf_counter()
+    ph.cancel_all()
+    for worker in workers:
+        worker.join(WALL_BOUND)
+        assert not worker.is_alive(), "cancel_all did not stop the call"
+    waited = time.perf_counter() - cancelled
+    for worker in workers:
+        error = worker.outcome
+        assert type(error) is ph.CancelledError, repr(error)
+        assert "cancel_all" in str(error)
+        # Not an Exception: `except Exception` around a call does not swallow a cancel.
+        assert not isinstance(error, Exception)
+    assert waited <= WALL_BOUND
+    # And the next call runs to its end, with the numbers of a call made before any cancel.
+    t = np.linspace(0.0, 5.0, 6)
+    again = ph.simulate((1.0, 2.0, 3.0), (0.1, 1.0, 0.1), t, method="rk4", dt=1e-3)
+    np.testing.assert_array_equal(again.omega, EARLIER.omega)
+
+
+#: A run made when this module is imported, before any test cancels anything.
+EARLIER = ph.simulate(
+    (1.0, 2.0, 3.0), (0.1, 1.0, 0.1), np.linspace(0.0, 5.0, 6), method="rk4", dt=1e-3
+)
+
+
+def test_cancelled_error_pickles():
+    import pickle
+
+    error = pickle.loads(pickle.dumps(ph.CancelledError("polhode.cancel_all() stopped this run.")))
+    assert type(error) is ph.CancelledError and str(error).startswith("polhode.cancel_all()")
+
+
+# ---------------------------------------------------------------------------------------------
+# polhode.dask: after Ctrl-C the worker threads go idle
+# ---------------------------------------------------------------------------------------------
+
+
+def cpu_until_idle(cpu_of: Callable[[], float], window: float = 0.25) -> tuple[float, float]:
+    """(CPU, wall) from now until the first `window` of wall time in which the process used
+    less than a fifth of a core; at most 60 s of wall time."""
+    cpu0, wall0 = cpu_of(), time.perf_counter()
+    while time.perf_counter() - wall0 < 60.0:
+        before = cpu_of()
+        time.sleep(window)
+        if cpu_of() - before < 0.2 * window:
+            break
+    return cpu_of() - cpu0, time.perf_counter() - wall0
+
+
+# Blocks of one body each, about 8 s of CPU per block (rk4, 2e8 steps); four blocks, two
+# workers. analyze: blocks of 5e4 bodies (about 0.1 ms each, in Python: 5 s a block), given as
+# dask arrays (numpy ones would be checked at once, which takes seconds for 2e5 bodies).
+def dask_rows(arrays, chunks):
+    import dask.array as da
+
+    return [da.from_array(a, chunks=(chunks, 3)) for a in arrays]
+
+
+def dask_simulate(phd):
+    moments, omega0 = batch(4)
+    return phd.simulate(
+        moments, omega0, [0.0, 2e5], method="rk4", dt=1e-3, max_steps=10**9, chunks=1
+    )
+
+
+DASK_CASES = {
+    "DaskTrajectory.compute": (
+        "polhode-simulate",
+        dask_simulate,
+        lambda lazy, kw: lazy.compute(**kw),
+    ),
+    "dask.compute(traj.omega)": (
+        "polhode-simulate",
+        dask_simulate,
+        lambda lazy, kw: __import__("dask").compute(lazy.omega, **kw),
+    ),
+    "DaskAnalysis.compute": (
+        "polhode-analyze",
+        lambda phd: phd.analyze(*dask_rows(batch(200_000), 50_000)),
+        lambda lazy, kw: lazy.compute(**kw),
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(DASK_CASES))
+def test_ctrl_c_idles_dask_worker_threads(case):
+    pytest.importorskip("dask")
+    from dask.callbacks import Callback
+
+    import polhode.dask as phd
+
+    prefix, make, run = DASK_CASES[case]
+    lazy = make(phd)
+    # Under way: two blocks handed to the workers, and 0.3 s of CPU used since.
+    submitted: list[str] = []
+    cpu_at_submission: list[float] = []
+    cpu0 = time.process_time()
+
+    def pretask(key, dsk, state):
+        name = key[0] if isinstance(key, tuple) else key
+        if str(name).startswith(prefix):
+            submitted.append(str(name))
+            if len(submitted) == 2:
+                cpu_at_submission.append(time.process_time() - cpu0)
+
+    def ready(cpu: float) -> bool:
+        return bool(cpu_at_submission) and cpu >= cpu_at_submission[0] + 0.3
+
+    with Callback(pretask=pretask):
+        record = interrupt(lambda: run(lazy, {"scheduler": "threads", "num_workers": 2}), ready)
+    assert not record.returned and isinstance(record.raised, KeyboardInterrupt), record
+    # Before: the two running blocks went on to their end (seconds of CPU each).
+    cpu, wall = cpu_until_idle(time.process_time)
+    assert cpu <= CPU_BOUND, f"{case}: {cpu:.2f} s CPU, {wall:.2f} s until idle"
+    # A later compute runs normally (the cancel reached only the blocks running).
+    check_later_compute(phd, {"scheduler": "threads"})
+
+
+def check_later_compute(phd, kwargs):
+    moments, omega0 = batch(6)
+    t = np.linspace(0.0, 2.0, 3)
+    got = phd.simulate(moments, omega0, t, method="rk4", dt=1e-2, chunks=2).compute(**kwargs)
+    expected = ph.simulate(moments, omega0, t, method="rk4", dt=1e-2)
+    np.testing.assert_array_equal(got.omega, expected.omega)
+
+
+def test_ctrl_c_idles_an_in_process_cluster():
+    distributed = pytest.importorskip("distributed")
+    import polhode.dask as phd
+
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        kwargs = {"scheduler": client}
+        record = interrupt(lambda: dask_simulate(phd).compute(**kwargs), lambda cpu: cpu >= 0.5)
+        assert not record.returned and isinstance(record.raised, KeyboardInterrupt), record
+        cpu, wall = cpu_until_idle(time.process_time)
+        assert cpu <= CPU_BOUND, f"{cpu:.2f} s CPU, {wall:.2f} s until idle"
+        check_later_compute(phd, kwargs)
