@@ -4,6 +4,7 @@ arguments end with a message and a non-zero status, never a traceback."""
 from __future__ import annotations
 
 import csv
+import math
 import subprocess
 import sys
 
@@ -132,8 +133,14 @@ def test_spin_accepts_a_solid(capsys):
     # Symmetric top: Omega = w_s (I_s - I_t) / I_t with I_s = m r^2 / 2, I_t = m (3 r^2 + L^2)/12.
     i_s, i_t = 0.01 / 2, (3 * 0.01 + 0.25) / 12
     expected = 5.0 * (i_s - i_t) / i_t
-    printed = float(out.split("precession rate")[1].split()[0])
+    printed = float(out.split("precession (body)")[1].split()[0])
     assert abs(printed / expected - 1) < 1e-8
+    # In space the axis cones about L at |L| / I_t, at the nutation angle arccos(I_s w_s / |L|).
+    momentum = math.hypot(i_t * 1.0, i_s * 5.0)
+    printed = float(out.split("precession (space)")[1].split()[0])
+    assert abs(printed / (momentum / i_t) - 1) < 1e-8
+    printed = float(out.split("nutation angle")[1].split()[0])
+    assert printed == pytest.approx(math.degrees(math.acos(i_s * 5.0 / momentum)), rel=1e-5)
 
 
 @pytest.mark.parametrize(

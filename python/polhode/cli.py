@@ -314,8 +314,14 @@ def _spin(args: argparse.Namespace) -> int:
         print(f"period             {a.period:.9g}   (omega in the body)")
     if a.flip_interval is not None:
         print(f"flip interval      {a.flip_interval:.9g}")
-    if a.precession_rate is not None:
-        print(f"precession rate    {a.precession_rate:.9g}   (symmetric top, body frame)")
+    if a.precession_rate_body is not None:
+        print(f"precession (body)  {a.precession_rate_body:.9g}   (omega about the symmetry axis)")
+    if a.precession_rate_space is not None:
+        print(f"precession (space) {a.precession_rate_space:.9g}   (mean rate about L)")
+    if a.nutation_angle is not None:
+        lo, hi = np.degrees(a.nutation_angle)
+        angle = f"{lo:.6g} deg" if lo == hi else f"{lo:.6g} to {hi:.6g} deg"
+        print(f"nutation angle     {angle}")
     print(f"omega at t = {args.t:g}  {sol.omega[-1]}")
     print(
         f"method {sol.stats['method']}: {sol.stats['steps']} steps, "

@@ -303,7 +303,8 @@ fn to_dict<'py>(
 }
 
 /// The torque-free motion's invariants: a dict with energy, angular_momentum_norm, regime,
-/// axis (index or None), period (or None).
+/// axis (index or None), period, precession_rate_space and nutation_angle ((min, max)), each
+/// or None.
 #[pyfunction]
 pub fn free_rotation<'py>(
     py: Python<'py>,
@@ -332,6 +333,8 @@ pub fn free_rotation<'py>(
     out.set_item("period", free.period())?;
     out.set_item("energy", free.energy())?;
     out.set_item("angular_momentum_norm", free.angular_momentum_norm())?;
+    out.set_item("precession_rate_space", free.precession_rate_space())?;
+    out.set_item("nutation_angle", free.nutation_angle())?;
     Ok(out)
 }
 
