@@ -77,7 +77,7 @@ def _trajectory(rotations: Rotation, times) -> Trajectory:
     m = len(times)
     return Trajectory(t=np.asarray(times), omega=np.zeros((m, 3)), quaternion=rotations.as_quat(),
                       angular_momentum_space=np.zeros((m, 3)),
-                      angular_momentum_body=np.zeros((m, 3)), energy=np.zeros(m),
+                      angular_momentum_body=np.zeros((m, 3)), energy=np.zeros(m), rotor_rates=None,
                       moments=np.ones(3), stats={})
 
 

@@ -1,10 +1,11 @@
 """polhode: the rotation of rigid bodies, with a Rust core.
 
 Mass properties and principal axes (:class:`Body`, :func:`principal`), motion
-(:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); see the README.
+(:func:`simulate`, :mod:`polhode.torque`, :mod:`polhode.rotors`) and understanding
+(:func:`analyze`); see the README.
 """
 
-from polhode import errors, plot, torque
+from polhode import errors, plot, rotors, torque
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.errors import (
@@ -37,6 +38,7 @@ __all__ = [
     "perturbation",
     "plot",
     "principal",
+    "rotors",
     "simulate",
     "torque",
 ]

@@ -1,6 +1,6 @@
 """Type stubs for the compiled core (checked by ``python -m mypy.stubtest polhode._core``)."""
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, final
 
 import numpy as np
@@ -10,6 +10,7 @@ __all__ = [
     "METHODS",
     "SOLIDS",
     "MassProperties",
+    "check_rotor",
     "check_torque",
     "free_rotation",
     "principal",
@@ -82,7 +83,9 @@ def simulate(
     orientation: bool = True,
     max_steps: int = 100_000_000,
     progress: Callable[[float], object] | None = None,
+    rotors: Sequence[Any] | None = None,
 ) -> dict[str, Any]: ...
+def check_rotor(rotor: Any) -> None: ...
 def check_torque(torque: Any) -> None: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]

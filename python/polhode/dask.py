@@ -63,6 +63,8 @@ class DaskTrajectory:
         Angular momentum in body axes.
     energy : (N, M) dask.array.Array
         Rotational kinetic energy.
+    rotor_rates : None
+        Always None: polhode.dask does not take rotors.
     moments : (N, 3) dask.array.Array
         Principal moments.
     steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
@@ -79,6 +81,7 @@ class DaskTrajectory:
     angular_momentum_space: da.Array | None
     angular_momentum_body: da.Array
     energy: da.Array
+    rotor_rates: da.Array | None
     moments: da.Array
     steps: da.Array
     rejected_steps: da.Array

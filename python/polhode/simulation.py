@@ -17,6 +17,7 @@ from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
 from polhode.bodies import Body
 from polhode.errors import ArgumentError
+from polhode.rotors import as_rotors
 from polhode.torque import as_torque
 
 if TYPE_CHECKING:
@@ -45,10 +46,14 @@ class Trajectory:
         ``orientation=False``.
     angular_momentum_space : (..., M, 3) numpy.ndarray or None
         Angular momentum in space axes (conserved without torque); None without orientation.
+        With rotors, the total of the body and its rotors.
     angular_momentum_body : (..., M, 3) numpy.ndarray
-        Angular momentum in body axes.
+        Angular momentum in body axes; with rotors, the total.
     energy : (..., M) numpy.ndarray
-        Rotational kinetic energy.
+        Rotational kinetic energy; with rotors, the total (the rotors' spin included).
+    rotor_rates : (..., M, R, 3) numpy.ndarray or None
+        With R rotors, each rotor's angular velocity relative to the body, in body axes (a
+        wheel's is its rate along its axis); None without rotors.
     moments : (..., 3) numpy.ndarray
         The principal moments the motion was integrated with (about the pivot for a heavy top).
     stats : dict
@@ -61,6 +66,7 @@ class Trajectory:
     angular_momentum_space: NDArray[np.float64] | None
     angular_momentum_body: NDArray[np.float64]
     energy: NDArray[np.float64]
+    rotor_rates: NDArray[np.float64] | None
     moments: NDArray[np.float64]
     stats: dict[str, Any]
 
@@ -212,10 +218,13 @@ def _available_memory() -> int | None:
         return None
 
 
-def _check_fits(omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool) -> None:
+def _check_fits(
+    omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool, rotors: int = 0
+) -> None:
     """MemoryError before the work if the outputs cannot fit in this machine's memory."""
     n = omega0.shape[0] if omega0.ndim == 2 else 1
-    per_time = 14 if orientation else 7  # the numbers of every output quantity at one time
+    # The numbers of every output quantity at one time.
+    per_time = (14 if orientation else 7) + 3 * rotors
     size = float(n) * float(times.size) * per_time * 8
     available = _available_memory()
     if available is not None and size > available:
@@ -287,6 +296,7 @@ def simulate(
     orientation: bool = True,
     max_steps: int = 100_000_000,
     progress: bool | Callable[[float], object] = False,
+    rotors: Any = None,
 ) -> Trajectory:
     """The rotation of a rigid body (or a batch), torque-free or with a torque.
 
@@ -309,16 +319,26 @@ def simulate(
         of them (default identity).
     method : {"auto", "exact", "splitting", "midpoint", "rk4", "dop853"}
         ``auto`` is ``exact`` (the closed form: no steps, O(1) per output time) without a torque
-        and ``dop853`` with one. ``splitting`` (Lie-Poisson, symplectic; |L| and L in space
-        exact), ``midpoint`` (implicit; T and |L| exact) and ``rk4`` take a fixed ``dt``.
+        or rotors and ``dop853`` with them. ``splitting`` (Lie-Poisson, symplectic; |L| and L in
+        space exact), ``midpoint`` (implicit; T and |L| exact) and ``rk4`` take a fixed ``dt``.
     dt : float, optional
         Largest step of the fixed-step methods (between output times the steps are equal).
     order : {2, 4, 6}
         Order of the splitting method (default 4).
     rtol, atol : float
-        Tolerances of ``dop853`` (atol defaults to ``rtol * |omega0|``).
+        Tolerances of ``dop853`` (atol defaults to ``rtol * |omega0|``; with rotors, ``rtol``
+        times the largest of ``|omega0|`` and the rotors' initial rates, a wheel's momentum
+        taking ``J atol``).
     torque : polhode.torque model or callable, optional
         See :mod:`polhode.torque`.
+    rotors : sequence of polhode.rotors rotors, optional
+        Reaction wheels and spherical dampers inside the body (each body of a batch has the
+        same), in the body's own axes; see :mod:`polhode.rotors`. The body's inertia includes
+        them, locked. Integrated by ``dop853`` (``auto``) or ``rk4``: each rotor's rate is
+        returned in ``rotor_rates``, and the angular momentum and energy are the totals, rotors
+        included (conserved without external torque and damping; a damper lowers the energy at
+        fixed angular momentum). A wheel driven by a Python function runs the bodies one after
+        another.
     orientation : bool
         Integrate the orientation (default True). False integrates omega alone (cheaper) unless
         the torque depends on the orientation; the trajectory then has no quaternion.
@@ -346,7 +366,8 @@ def simulate(
     if np.ndim(t) == 0:
         times = np.array([t0, float(times[0])])
     omega = _as_float_array("omega0", omega0)
-    _check_fits(omega, times, bool(orientation))
+    rotors = None if rotors is None else as_rotors(rotors)
+    _check_fits(omega, times, bool(orientation), 0 if rotors is None else len(rotors))
     callback, bar = _progress(progress)
     try:
         outputs = _core.simulate(
@@ -364,6 +385,7 @@ def simulate(
             orientation=bool(orientation),
             max_steps=as_integer("max_steps", max_steps),
             progress=callback,
+            rotors=rotors,
         )
     finally:
         if bar is not None:

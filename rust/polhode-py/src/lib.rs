@@ -8,6 +8,7 @@ mod convert;
 mod errors;
 mod mass;
 mod motion;
+mod rotors;
 mod torque;
 mod watch;
 
@@ -21,6 +22,9 @@ mod _core {
 
     #[pymodule_export]
     use crate::motion::{free_rotation, simulate};
+
+    #[pymodule_export]
+    use crate::rotors::check_rotor;
 
     #[pymodule_export]
     use crate::torque::check_torque;
