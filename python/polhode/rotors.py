@@ -26,8 +26,9 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_float_array, as_scalar
+from polhode.errors import PolhodeError
 
-__all__ = ["Rotor", "SphericalDamper", "Wheel", "as_rotors"]
+__all__ = ["Rotor", "SphericalDamper", "Wheel", "as_rotors", "nutation_rate"]
 
 
 class Rotor:
@@ -168,3 +169,92 @@ def as_rotors(rotors: Any) -> tuple[Rotor, ...]:
                 f"{type(rotor).__name__}."
             )
     return tuple(rotors)
+
+
+def _principal(body: Any, omega0: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Ascending principal moments (rotors locked) and omega0 in those axes."""
+    from polhode.analysis import _principal_frame
+
+    omega = as_array("omega0", omega0, (3,))
+    moments, axes = _principal_frame(body)
+    order = np.argsort(moments, kind="stable")
+    return moments[order], (omega @ axes)[order]
+
+
+def nutation_rate(body: Any, omega0: Any, damper: SphericalDamper) -> float:
+    """The exponential rate of the nutation of a spin with a spherical damper, linearised.
+
+    The body spins about the principal axis nearest ``omega0`` at ``w`` (``omega0``'s component
+    along it), its sphere turning with it; a small nutation then grows or decays as
+    ``exp(rate * t)``: ``rate < 0`` about the axis of the largest moment (the damper's time
+    constant is ``-1 / rate``), ``rate > 0`` about the smallest (the energy-sink instability
+    that tipped Explorer 1), the energy ``2 T I_k - |L|^2`` (``I_k`` the spin axis's moment)
+    following at ``2 rate``.
+
+    For a body symmetric about the spin axis the rate is in closed form (``docs/rotors.md``):
+    with ``A_t = I_t - J``, ``A_s = I_s - J`` (the moments without the sphere's spinning
+    inertia), ``l = w (A_s - A_t) / A_t``, ``k = c / J`` and ``m = c / A_t``, the nutation is the
+    root near ``i l`` of ``s^2 + (i (w - l) + k + m) s + l w - i l k = 0``; for weak coupling
+    (``c / J`` well below ``w I_s / I_t``) ``rate = -c (A_s - A_t) / (A_s A_t)``, the energy-sink
+    estimate (Likins 1967; Hughes 1986, ch. 7). Otherwise it is the largest real part of the
+    eigenvalues of the motion (body and sphere) linearised about the spin, the modes of the
+    steady family (zero eigenvalues) left out.
+
+    Parameters
+    ----------
+    body : Body, (3,) principal moments or (3, 3) tensor
+        The body with its rotors locked, as in :func:`polhode.simulate`.
+    omega0 : (3,) array_like
+        The angular velocity in body axes; the spin axis is its principal component of largest
+        magnitude.
+    damper : SphericalDamper
+        The damper.
+
+    Returns
+    -------
+    float
+        The rate (1 / time).
+    """
+    if not isinstance(damper, SphericalDamper):
+        raise TypeError(
+            "Expected `damper` to be a polhode.rotors.SphericalDamper, got "
+            f"{type(damper).__name__}."
+        )
+    moments, omega = _principal(body, omega0)
+    k = int(np.argmax(np.abs(omega)))
+    a, b = [j for j in range(3) if j != k]
+    spin, j, c = float(omega[k]), damper.inertia, damper.damping
+    if not np.all(moments - j > 0):
+        raise PolhodeError(
+            "Expected the damper's inertia to lie inside the body's: every principal moment "
+            f"above J = {j:g}, got moments {moments.tolist()}.",
+            argument="damper",
+        )
+    if spin == 0.0 or c == 0.0:
+        return 0.0
+    if moments[a] == moments[b]:
+        a_t, a_s = moments[a] - j, moments[k] - j
+        ell = spin * (a_s - a_t) / a_t
+        kappa, mu = c / j, c / a_t
+        half = 0.5 * (1j * (spin - ell) + kappa + mu)
+        root = np.sqrt(half * half - (ell * spin - 1j * ell * kappa))
+        s = min((-half + root, -half - root), key=lambda x: abs(x - 1j * ell))
+        return float(s.real)
+    a_mat = np.diag(moments - j)
+    w0 = np.zeros(3)
+    w0[k] = spin
+
+    def cross(v: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+    inverse = np.diag(1.0 / (moments - j))
+    jacobian = np.block(
+        [
+            [inverse @ (-cross(w0) @ a_mat + cross(a_mat @ w0) - c * np.eye(3)), c * inverse],
+            [cross(w0) + (c / j) * np.eye(3), -cross(w0) - (c / j) * np.eye(3)],
+        ]
+    )
+    eigenvalues = np.linalg.eigvals(jacobian)
+    scale = max(abs(spin), c / j, c / float(moments.min()))
+    moving = eigenvalues[np.abs(eigenvalues) > 1e-9 * scale]
+    return float(np.max(moving.real))
