@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipk
 
+import polhode as ph
 from polhode.cli import main
 
 
@@ -27,6 +28,21 @@ def test_demo_prints_the_flip_prediction_and_observation(tmp_path, capsys):
         assert abs(interval / predicted - 1) < 1e-3  # sampled on a 20001-point grid
 
 
+def test_demo_shows_the_major_axis_rule(capsys):
+    """The damped spin about the smallest axis ends about the largest: T falls to
+    L^2 / (2 I3) with |L| fixed (moments 1, 4, 5; w0 = (2, 0.01, 0.01))."""
+    assert main(["demo", "--no-plots"]) == 0
+    out = capsys.readouterr().out.split("spherical damper")[1]
+    ell2 = (1.0 * 2.0) ** 2 + (4.0 * 0.01) ** 2 + (5.0 * 0.01) ** 2
+    final = float(out.split("T ")[1].split("-> ")[1].split(";")[0])
+    assert final == pytest.approx(ell2 / (2 * 5.0), abs=1e-4)
+    assert float(out.split("|L| fixed to ")[1].split(";")[0]) < 1e-8
+    rate = float(out.split("grows at ")[1].split()[0])
+    assert rate == pytest.approx(
+        ph.rotors.nutation_rate((1.0, 4.0, 5.0), (2.0, 0.01, 0.01),
+                                ph.rotors.SphericalDamper(0.2, 0.1)), abs=1e-4)
+
+
 def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     from matplotlib.image import imread
@@ -36,6 +52,7 @@ def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):
     written = sorted(p.name for p in out.glob("*.png"))
     assert {"flip_omega.png", "flip_polhode.png", "flip_herpolhode.png"} <= set(written)
     assert {"flip_drift_splitting.png", "perturbation_error.png"} <= set(written)
+    assert {"damper_energy.png", "damper_polhode.png"} <= set(written)
     for name in written:
         image = imread(out / name)[..., :3]
         assert image.shape[0] > 200 and image.shape[1] > 200
@@ -269,6 +286,7 @@ def test_spin_imports_neither_scipy_nor_matplotlib_and_times_only_the_run(tmp_pa
     script = """
 import sys
 import polhode
+import polhode as ph
 from polhode.cli import main
 
 seen = {}

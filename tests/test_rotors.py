@@ -338,3 +338,28 @@ def test_nutation_rate_closed_form_limits():
     assert error.value.argument == "damper"
     with pytest.raises(TypeError, match="damper"):
         ph.rotors.nutation_rate((1.0, 2.0, 3.0), (0.0, 0.0, 1.0), Wheel([0, 0, 1], 0.1))
+
+
+def test_dissipation_plot_draws_the_energy_sink():
+    """plot.dissipation: T and |L| relative to t = 0, and the levels of the separatrix and of
+    the spin about the largest axis, L^2 / (2 I2) and L^2 / (2 I3) over T0."""
+    moments, omega0 = (1.0, 4.0, 5.0), (2.0, 0.01, 0.01)
+    times = np.linspace(0.0, 300.0, 301)
+    sol = ph.simulate(moments, omega0, times, rotors=[SphericalDamper(0.2, 0.1)])
+    ax = ph.plot.dissipation(sol)
+    lines = {line.get_gid(): line for line in ax.get_lines()}
+    ell2 = sum((i * w) ** 2 for i, w in zip(moments, omega0, strict=True))
+    t0 = 0.5 * sum(i * w * w for i, w in zip(moments, omega0, strict=True))
+    np.testing.assert_allclose(lines["dissipation:energy"].get_ydata(), sol.energy / t0)
+    assert lines["dissipation:energy"].get_ydata()[-1] == pytest.approx(ell2 / (2 * 5.0) / t0,
+                                                                        rel=1e-3)
+    np.testing.assert_allclose(lines["dissipation:angular_momentum"].get_ydata(), 1.0,
+                               rtol=1e-8)
+    assert lines["dissipation:separatrix"].get_ydata()[0] == pytest.approx(ell2 / 8.0 / t0)
+    assert lines["dissipation:largest_axis"].get_ydata()[0] == pytest.approx(ell2 / 10.0 / t0)
+    # The polhode of the same run: the total L in the body, on the sphere |L| = const, ends
+    # on the largest axis.
+    ax = ph.plot.polhode(traj=sol)
+    path = [line for line in ax.get_lines() if line.get_gid() == "trajectory"][0]
+    x, y, z = path.get_data_3d()
+    assert abs(x[0]) > 0.99 * np.sqrt(ell2) and abs(z[-1]) > 0.999 * np.sqrt(ell2)
