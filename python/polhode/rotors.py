@@ -196,9 +196,9 @@ def nutation_rate(body: Any, omega0: Any, damper: SphericalDamper) -> float:
     inertia), ``l = w (A_s - A_t) / A_t``, ``k = c / J`` and ``m = c / A_t``, the nutation is the
     root near ``i l`` of ``s^2 + (i (w - l) + k + m) s + l w - i l k = 0``; for weak coupling
     (``c / J`` well below ``w I_s / I_t``) ``rate = -c (A_s - A_t) / (A_s A_t)``, the energy-sink
-    estimate (Likins 1967; Hughes 1986, ch. 7). Otherwise it is the largest real part of the
-    eigenvalues of the motion (body and sphere) linearised about the spin, the modes of the
-    steady family (zero eigenvalues) left out.
+    estimate (Likins, JPL TR 32-860, 1966; Hughes 1986). Otherwise it is the largest real part
+    of the eigenvalues of the motion (body and sphere) linearised about the spin, the modes of
+    the steady family (zero eigenvalues) left out.
 
     Parameters
     ----------

@@ -7,7 +7,7 @@
 //! rotor's mass and all of its inertia. `A = I - sum_wheels J a a^T - sum_dampers J 1` is then
 //! the inertia of the body with the rotors' spinning inertia taken out (it must be positive
 //! definite). A rotor at rest relative to the body leaves the motion that of the rigid body
-//! `I` (Hughes, *Spacecraft Attitude Dynamics*, 1986, sec. 3.3 and 7.2).
+//! `I` (Hughes, *Spacecraft Attitude Dynamics*, 1986; Hall, J. Guidance 19(5), 1996).
 //!
 //! **Variables**, in body axes: the angular velocity `w`, the orientation `q`, and per rotor
 //! - a wheel on the body-fixed unit axis `a` with axial inertia `J`, spinning at `W` relative
@@ -16,8 +16,8 @@
 //! - a spherical damper (a sphere of inertia `J` in a spherical cavity, viscous coupling `c`):
 //!   its absolute angular velocity `s`.
 //!
-//! **Equations** (Hughes sec. 3.3 for the wheel, whose bearings pass only transverse torques;
-//! the damper as in Kane and Levinson, and Hughes sec. 7.2):
+//! **Equations** (derived in `docs/rotors.md`; the wheel's bearings pass only transverse
+//! torques):
 //! - `h' = g`;
 //! - `J (s' + w x s) = -c (s - w)`, the sphere's Euler equation in the rotating frame;
 //! - `A w' = (A w + sum h a) x w - sum g a + sum c (s - w) + tau`, the body (without the
