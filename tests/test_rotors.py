@@ -276,6 +276,24 @@ def test_wrong_types_and_raising_functions():
                     rotors=[Wheel([0.0, 0.0, 1.0], 0.1, torque=lambda t, w, r: np.inf)])
 
 
+def test_overflowing_rotors_and_progress():
+    for rate0, inertia in [(1e308, 10.0), (1e200, 0.1)]:
+        with pytest.raises(ph.ArgumentError, match="overflows") as error:
+            ph.simulate((100.0, 200.0, 300.0), [0.1, 1.0, 0.1], 1.0,
+                        rotors=[Wheel([0.0, 0.0, 1.0], inertia, rate0=rate0)])
+        assert error.value.argument == "rotors"
+    with pytest.raises(ph.ArgumentError, match="at most 24") as error:
+        ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0, rotors=[SphericalDamper(0.01, 0.1)] * 9)
+    assert error.value.argument == "rotors"
+    # Progress is reported every 50 ms of a run and at its end (2e6 rk4 steps take well over
+    # 100 ms; the dop853 run may be quicker than one report).
+    for method, options, reports in [("rk4", {"dt": 0.01}, 3), ("dop853", {}, 1)]:
+        seen = []
+        ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], [0.0, 2e4], method=method,
+                    rotors=[SphericalDamper(0.1, 0.01)], progress=seen.append, **options)
+        assert seen[-1] == 1.0 and len(seen) >= reports and np.all(np.diff(seen) >= 0)
+
+
 def test_rotors_are_immutable_values():
     wheel = Wheel([0.0, 0.0, 2.0], 0.1, torque=[(0.0, 1.0)])
     with pytest.raises(AttributeError):

@@ -685,11 +685,17 @@ fn run<const N: usize>(
     for i in 0..4 {
         y0[3 + i] = q0[i];
     }
-    for (i, v) in gyrostat
-        .initial_variables(&state0.omega)
-        .into_iter()
-        .enumerate()
-    {
+    let vars0 = gyrostat.initial_variables(&state0.omega);
+    let energy0 = gyrostat.energy(&state0.omega, &vars0);
+    if !(energy0.is_finite() && vars0.iter().all(|v| v.is_finite())) {
+        return Err(Error::InvalidArgument {
+            name: "rotors".into(),
+            reason: "the rotors' angular momentum or kinetic energy at the start overflows double \
+                     precision."
+                .into(),
+        });
+    }
+    for (i, v) in vars0.into_iter().enumerate() {
         y0[7 + i] = v;
     }
     let mut out = GyrostatTrajectory {
@@ -706,7 +712,7 @@ fn run<const N: usize>(
                     match i {
                         0..=2 => "omega",
                         3..=6 => "orientation",
-                        _ => "rotor variable",
+                        _ => "rotor_rates",
                     },
                     Short(t)
                 ),
