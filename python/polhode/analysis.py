@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -11,7 +12,7 @@ from numpy.typing import NDArray
 from polhode import _core
 from polhode._coerce import as_float_array as _as_float_array
 from polhode.bodies import Body
-from polhode.errors import ShapeError
+from polhode.errors import ArgumentError, ShapeError
 from polhode.principal_axes import principal
 from polhode.simulation import _body as _simulation_body
 
@@ -158,13 +159,26 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     k = int(np.argmax(np.abs(omega)))
     a, b = [j for j in range(3) if j != k]
     w = float(omega[k])
-    omega_a = w * (moments[k] - moments[b]) / moments[a]
-    omega_b = w * (moments[k] - moments[a]) / moments[b]
-    product = omega_a * omega_b
+    # Omega_a Omega_b = w^2 (I - Ib)(I - Ia) / (Ia Ib): its sign from the differences, its root
+    # as |w| sqrt|I - Ib| / sqrt(Ia) * sqrt|I - Ia| / sqrt(Ib), which overflows only when the
+    # rate itself is beyond double precision (a product of the two would overflow far sooner).
+    ik, ia, ib = (float(moments[j]) for j in (k, a, b))
+    sign = np.sign(ik - ib) * np.sign(ik - ia)
+    rate = (
+        abs(w)
+        * (math.sqrt(abs(ik - ib)) / math.sqrt(ia))
+        * (math.sqrt(abs(ik - ia)) / math.sqrt(ib))
+    )
+    if not math.isfinite(rate):
+        raise ArgumentError(
+            "The linearised rate near the axis of omega0 is beyond double precision for these "
+            f"moments {moments.tolist()} and omega0.",
+            argument="body",
+        )
     linearized = {
         "axis": k,
-        "kind": "oscillation" if product >= 0 else "growth",
-        "rate": float(np.sqrt(abs(product))),
+        "kind": "oscillation" if sign >= 0 else "growth",
+        "rate": rate,
     }
     return Analysis(
         moments=moments,
