@@ -1166,9 +1166,9 @@ def analysis_check(moments, omega, stability=None, precession=None):
         if stability is not None:
             assert a.axis_stability == stability, a.axis_stability
         if precession is not None:
-            close(a.precession_rate, precession, 4 * EPS, what="precession rate")
+            close(a.precession_rate_body, precession, 4 * EPS, what="precession rate")
         elif regime != "symmetric":
-            assert a.precession_rate is None, a.precession_rate
+            assert a.precession_rate_body is None, a.precession_rate_body
 
     return check
 

@@ -4,6 +4,7 @@ arguments end with a message and a non-zero status, never a traceback."""
 from __future__ import annotations
 
 import csv
+import math
 import subprocess
 import sys
 
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipk
 
+import polhode as ph
 from polhode.cli import main
 
 
@@ -26,6 +28,21 @@ def test_demo_prints_the_flip_prediction_and_observation(tmp_path, capsys):
         assert abs(interval / predicted - 1) < 1e-3  # sampled on a 20001-point grid
 
 
+def test_demo_shows_the_major_axis_rule(capsys):
+    """The damped spin about the smallest axis ends about the largest: T falls to
+    L^2 / (2 I3) with |L| fixed (moments 1, 4, 5; w0 = (2, 0.01, 0.01))."""
+    assert main(["demo", "--no-plots"]) == 0
+    out = capsys.readouterr().out.split("spherical damper")[1]
+    ell2 = (1.0 * 2.0) ** 2 + (4.0 * 0.01) ** 2 + (5.0 * 0.01) ** 2
+    final = float(out.split("T ")[1].split("-> ")[1].split(";")[0])
+    assert final == pytest.approx(ell2 / (2 * 5.0), abs=1e-4)
+    assert float(out.split("|L| fixed to ")[1].split(";")[0]) < 1e-8
+    rate = float(out.split("grows at ")[1].split()[0])
+    assert rate == pytest.approx(
+        ph.rotors.nutation_rate((1.0, 4.0, 5.0), (2.0, 0.01, 0.01),
+                                ph.rotors.SphericalDamper(0.2, 0.1)), abs=1e-4)
+
+
 def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     from matplotlib.image import imread
@@ -35,6 +52,7 @@ def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):
     written = sorted(p.name for p in out.glob("*.png"))
     assert {"flip_omega.png", "flip_polhode.png", "flip_herpolhode.png"} <= set(written)
     assert {"flip_drift_splitting.png", "perturbation_error.png"} <= set(written)
+    assert {"damper_energy.png", "damper_polhode.png"} <= set(written)
     for name in written:
         image = imread(out / name)[..., :3]
         assert image.shape[0] > 200 and image.shape[1] > 200
@@ -132,8 +150,14 @@ def test_spin_accepts_a_solid(capsys):
     # Symmetric top: Omega = w_s (I_s - I_t) / I_t with I_s = m r^2 / 2, I_t = m (3 r^2 + L^2)/12.
     i_s, i_t = 0.01 / 2, (3 * 0.01 + 0.25) / 12
     expected = 5.0 * (i_s - i_t) / i_t
-    printed = float(out.split("precession rate")[1].split()[0])
+    printed = float(out.split("precession (body)")[1].split()[0])
     assert abs(printed / expected - 1) < 1e-8
+    # In space the axis cones about L at |L| / I_t, at the nutation angle arccos(I_s w_s / |L|).
+    momentum = math.hypot(i_t * 1.0, i_s * 5.0)
+    printed = float(out.split("precession (space)")[1].split()[0])
+    assert abs(printed / (momentum / i_t) - 1) < 1e-8
+    printed = float(out.split("nutation angle")[1].split()[0])
+    assert printed == pytest.approx(math.degrees(math.acos(i_s * 5.0 / momentum)), rel=1e-5)
 
 
 @pytest.mark.parametrize(
@@ -262,6 +286,7 @@ def test_spin_imports_neither_scipy_nor_matplotlib_and_times_only_the_run(tmp_pa
     script = """
 import sys
 import polhode
+import polhode as ph
 from polhode.cli import main
 
 seen = {}

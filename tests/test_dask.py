@@ -161,9 +161,13 @@ def test_analyze_equals_analyze_per_body(bodies):
         assert np.array_equal(got.omega[k], a.omega)
         assert got.energy[k] == a.energy and got.angular_momentum_norm[k] == a.angular_momentum_norm
         assert got.regime[k] == a.regime
-        for name in ("period", "flip_interval", "precession_rate"):
+        for name in ("period", "flip_interval", "precession_rate_body", "precession_rate_space"):
             value, got_value = getattr(a, name), getattr(got, name)[k]
             assert np.isnan(got_value) if value is None else got_value == value, name
+        if a.nutation_angle is None:
+            assert np.isnan(got.nutation_angle[k]).all()
+        else:
+            assert tuple(got.nutation_angle[k]) == a.nutation_angle
         assert tuple(got.axis_stability[k]) == a.axis_stability
         assert got.linearized_axis[k] == a.linearized["axis"]
         assert got.linearized_kind[k] == a.linearized["kind"]

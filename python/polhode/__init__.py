@@ -1,11 +1,12 @@
 """polhode: the rotation of rigid bodies, with a Rust core.
 
 Mass properties and principal axes (:class:`Body`, :func:`principal`), molecules
-(:meth:`Body.from_atoms`, :mod:`polhode.molecule`), motion
-(:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); see the README.
+(:meth:`Body.from_atoms`, :mod:`polhode.molecule`), motion (:func:`simulate`,
+:mod:`polhode.torque`, :mod:`polhode.rotors`) and understanding (:func:`analyze`); see the
+README.
 """
 
-from polhode import errors, molecule, plot, torque
+from polhode import errors, molecule, plot, rotors, torque
 from polhode._core import cancel_all
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
@@ -44,6 +45,7 @@ __all__ = [
     "plot",
     "point_masses_inertia",
     "principal",
+    "rotors",
     "simulate",
     "torque",
 ]

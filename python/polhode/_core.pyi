@@ -1,6 +1,6 @@
 """Type stubs for the compiled core (checked by ``python -m mypy.stubtest polhode._core``)."""
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, final
 
 import numpy as np
@@ -12,6 +12,7 @@ __all__ = [
     "MassProperties",
     "cancel_all",
     "cancel_epoch",
+    "check_rotor",
     "check_torque",
     "free_rotation",
     "point_masses_inertia",
@@ -88,7 +89,9 @@ def simulate(
     orientation: bool = True,
     max_steps: int = 100_000_000,
     progress: Callable[[float], object] | None = None,
+    rotors: Sequence[Any] | None = None,
 ) -> dict[str, Any]: ...
+def check_rotor(rotor: Any) -> None: ...
 def check_torque(torque: Any) -> None: ...
 def cancel_all() -> None: ...
 def cancel_epoch() -> int: ...

@@ -48,9 +48,24 @@ class Analysis:
     flip_interval : float or None
         Time between successive sign changes of the intermediate component (the tennis-racket
         flips): half the period. None for symmetric, steady or separatrix motion.
-    precession_rate : float or None
-        For a symmetric top, the body-frame precession rate of omega about the symmetry axis
-        ``Omega = w_s (I_s - I_t) / I_t``.
+    precession_rate_body : float or None
+        For a symmetric top, the rate at which omega (and L) precess about the symmetry axis
+        in the body, ``Omega = w_s (I_s - I_t) / I_t``; None otherwise.
+    precession_rate_space : float or None
+        The mean rate (positive, about +L) at which the body precesses about L in space: the
+        mean rate of the azimuth about L of the axis the motion circulates about (the symmetry
+        axis, or the axis of the smallest or largest moment as ``regime`` says). ``|L| / I_t``
+        for a symmetric top (I_t the transverse moment); for three distinct moments the
+        exact solution's mean over one period of omega, through the complete elliptic integral
+        of the third kind; for a steady rotation about the axis of the smallest or largest
+        moment the limit of the motions about it. None at rest, on the separatrix and in
+        steady rotation about the intermediate axis.
+    nutation_angle : (float, float) or None
+        The range (min, max) of the angle between L and that same axis (taken along its
+        principal direction: above pi/2 when L is nearer its negative end). A symmetric top
+        nutates at a constant angle, ``arccos(I_s w_s / |L|)`` (min == max); three distinct
+        moments swing between the two. None when ``precession_rate_space`` is, and for a
+        sphere.
     axis_stability : tuple of str
         For each principal axis, ``"stable"`` (smallest or largest moment), ``"unstable"``
         (intermediate) or ``"neutral"`` (a moment shared with another axis).
@@ -69,7 +84,9 @@ class Analysis:
     regime: str
     period: float | None
     flip_interval: float | None
-    precession_rate: float | None
+    precession_rate_body: float | None
+    precession_rate_space: float | None
+    nutation_angle: tuple[float, float] | None
     axis_stability: tuple[str, str, str]
     linearized: dict[str, Any] = field(default_factory=dict)
 
@@ -136,7 +153,8 @@ def _principal_frame(
 
 
 def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
-    """Regime, period, flip interval, precession and axis stability of a torque-free motion.
+    """Regime, period, flip interval, precession, nutation and axis stability of a torque-free
+    motion.
 
     ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes.
 
@@ -173,6 +191,7 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         regime = _ABOUT[info["axis"]]
     period = info["period"]
     flip = period / 2 if regime in _ABOUT.values() and period is not None else None
+    nutation = info["nutation_angle"]
     precession = None
     # Equal as the core's regime sees them (exactly): the merging is done above.
     equal = [moments[1] == moments[0], moments[2] == moments[1]]
@@ -222,7 +241,9 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         regime=regime,
         period=period,
         flip_interval=flip,
-        precession_rate=precession,
+        precession_rate_body=precession,
+        precession_rate_space=info["precession_rate_space"],
+        nutation_angle=None if nutation is None else (float(nutation[0]), float(nutation[1])),
         axis_stability=stability,
         linearized=linearized,
     )

@@ -70,6 +70,8 @@ def _demo(args: argparse.Namespace) -> int:
             )
         print()
     _flip_demo()
+    print()
+    _damper_demo()
     if plots:
         _demo_plots(args.out)
     elif not args.no_plots:
@@ -109,12 +111,64 @@ def _demo_plots(out: str) -> None:
         path = os.path.join(out, name)
         ax.figure.savefig(path, dpi=100)
         written.append(path)
+    # The major-axis rule: T falls at fixed |L|, the polhode spirals to the largest axis.
+    damped, _ = _damped()
+    for name, ax in (
+        ("damper_energy.png", plot.dissipation(damped)),
+        ("damper_polhode.png", plot.polhode(traj=damped)),
+    ):
+        path = os.path.join(out, name)
+        ax.figure.savefig(path, dpi=100)
+        written.append(path)
     # Near the stable axis of least inertia: the expansion's error falls like eps^(n+1).
     ax = plot.perturbation_error(p.moments, axis=0)
     path = os.path.join(out, "perturbation_error.png")
     ax.figure.savefig(path, dpi=100)
     written.append(path)
     print(f"\nplots written: {', '.join(written)}")
+
+
+#: The major-axis rule: a body spun about its smallest axis with a spherical damper inside
+#: (the moments include the damper locked).
+DAMPED = {"moments": (1.0, 4.0, 5.0), "omega0": (2.0, 0.01, 0.01), "inertia": 0.2, "damping": 0.1}
+
+
+def _damped() -> tuple[ph.Trajectory, float]:
+    """The damped spin of :data:`DAMPED` over about 13 growth times, and its nutation rate."""
+    damper = ph.rotors.SphericalDamper(DAMPED["inertia"], DAMPED["damping"])
+    rate = ph.rotors.nutation_rate(DAMPED["moments"], DAMPED["omega0"], damper)
+    t = np.linspace(0.0, 400.0, 4001)
+    sol = ph.simulate(DAMPED["moments"], DAMPED["omega0"], t, rotors=[damper])
+    return sol, rate
+
+
+def _damper_demo() -> None:
+    """The major-axis rule: a damper drains T at fixed |L| until the body spins about its
+    largest axis."""
+    sol, rate = _damped()
+    moments = np.asarray(DAMPED["moments"])
+    ell = np.linalg.norm(sol.angular_momentum_space, axis=1)
+    l2 = ell[0] ** 2
+    crossing = sol.t[np.argmax(sol.energy < l2 / (2 * moments[1]))]
+    w = sol.omega[-1]
+    print(
+        f"A body with moments {' '.join(f'{m:g}' for m in moments)} spun at "
+        f"{DAMPED['omega0'][0]:g} rad/s about its smallest axis, with a spherical damper "
+        f"(J {DAMPED['inertia']:g}, c {DAMPED['damping']:g})"
+    )
+    print(
+        f"  predicted       the nutation grows at {rate:.4f} /s (e-folding time {1 / rate:.1f} s), "
+        "linearised"
+    )
+    print(
+        f"  energy          T {sol.energy[0]:.4f} -> {sol.energy[-1]:.4f}; crosses the "
+        f"separatrix L^2/(2 I2) at t = {crossing:.0f} s; the largest axis's L^2/(2 I3) = "
+        f"{l2 / (2 * moments[2]):.4f}"
+    )
+    print(
+        f"  angular momentum |L| fixed to {np.max(np.abs(ell / ell[0] - 1)):.1e}; at "
+        f"t = {sol.t[-1]:g} s omega = {np.array2string(w, precision=4)} (about the largest axis)"
+    )
 
 
 def _flip_demo() -> None:
@@ -323,8 +377,14 @@ def _spin(args: argparse.Namespace) -> int:
         print(f"period             {a.period:.9g}   (omega in the body)")
     if a.flip_interval is not None:
         print(f"flip interval      {a.flip_interval:.9g}")
-    if a.precession_rate is not None:
-        print(f"precession rate    {a.precession_rate:.9g}   (symmetric top, body frame)")
+    if a.precession_rate_body is not None:
+        print(f"precession (body)  {a.precession_rate_body:.9g}   (omega about the symmetry axis)")
+    if a.precession_rate_space is not None:
+        print(f"precession (space) {a.precession_rate_space:.9g}   (mean rate about L)")
+    if a.nutation_angle is not None:
+        lo, hi = np.degrees(a.nutation_angle)
+        angle = f"{lo:.6g} deg" if lo == hi else f"{lo:.6g} to {hi:.6g} deg"
+        print(f"nutation angle     {angle}")
     print(f"omega at t = {args.t:g}  {sol.omega[-1]}")
     print(
         f"method {sol.stats['method']}: {sol.stats['steps']} steps, "

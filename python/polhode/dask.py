@@ -132,6 +132,8 @@ class DaskTrajectory:
         Angular momentum in body axes.
     energy : (N, M) dask.array.Array
         Rotational kinetic energy.
+    rotor_rates : None
+        Always None: polhode.dask does not take rotors.
     moments : (N, 3) dask.array.Array
         Principal moments.
     steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
@@ -148,6 +150,7 @@ class DaskTrajectory:
     angular_momentum_space: da.Array | None
     angular_momentum_body: da.Array
     energy: da.Array
+    rotor_rates: da.Array | None
     moments: da.Array
     steps: da.Array
     rejected_steps: da.Array
@@ -199,7 +202,9 @@ class DaskAnalysis:
     energy, angular_momentum_norm : (N,)
         T and |L|.
     regime : (N,) str
-    period, flip_interval, precession_rate : (N,) float, NaN where not defined
+    period, flip_interval, precession_rate_body, precession_rate_space : (N,) float, NaN where
+        not defined
+    nutation_angle : (N, 2) float, (min, max); NaN where not defined
     axis_stability : (N, 3) str
     linearized_axis : (N,) int64
     linearized_kind : (N,) str
@@ -213,7 +218,9 @@ class DaskAnalysis:
     regime: Any
     period: Any
     flip_interval: Any
-    precession_rate: Any
+    precession_rate_body: Any
+    precession_rate_space: Any
+    nutation_angle: Any
     axis_stability: Any
     linearized_axis: Any
     linearized_kind: Any
@@ -546,7 +553,9 @@ _ANALYSIS_DTYPE = np.dtype(
         ("regime", f"U{_REGIME_WIDTH}"),
         ("period", np.float64),
         ("flip_interval", np.float64),
-        ("precession_rate", np.float64),
+        ("precession_rate_body", np.float64),
+        ("precession_rate_space", np.float64),
+        ("nutation_angle", np.float64, (2,)),
         ("axis_stability", f"U{_REGIME_WIDTH}", (3,)),
         ("linearized_axis", np.int64),
         ("linearized_kind", f"U{_REGIME_WIDTH}"),
@@ -583,7 +592,9 @@ def _analyze_block(
             a.regime,
             np.nan if a.period is None else a.period,
             np.nan if a.flip_interval is None else a.flip_interval,
-            np.nan if a.precession_rate is None else a.precession_rate,
+            np.nan if a.precession_rate_body is None else a.precession_rate_body,
+            np.nan if a.precession_rate_space is None else a.precession_rate_space,
+            (np.nan, np.nan) if a.nutation_angle is None else a.nutation_angle,
             a.axis_stability,
             a.linearized["axis"],
             a.linearized["kind"],

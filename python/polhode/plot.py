@@ -7,7 +7,7 @@ inside the functions: ``import polhode`` never needs it.
 Lines are tagged with ``Line2D.get_gid()`` so their data can be found again (the tests do):
 ``"omega1"``.., ``"drift:energy"``.., ``"polhode:<T>"``, ``"separatrix"``, ``"trajectory"``,
 ``"herpolhode"``, ``"work_precision:<name>"``, ``"perturbation_error:<order>"``,
-``"slope:<order + 1>"``.
+``"slope:<order + 1>"``, ``"dissipation:<curve>"``.
 """
 
 from __future__ import annotations
@@ -25,7 +25,15 @@ if TYPE_CHECKING:
 
     from polhode.simulation import Trajectory
 
-__all__ = ["drift", "herpolhode", "omega", "perturbation_error", "polhode", "work_precision"]
+__all__ = [
+    "dissipation",
+    "drift",
+    "herpolhode",
+    "omega",
+    "perturbation_error",
+    "polhode",
+    "work_precision",
+]
 
 #: The principal axes by role, indexed 0, 1, 2 with the moments ascending.
 AXIS_ROLES = ("smallest", "intermediate", "largest")
@@ -100,6 +108,46 @@ def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axe
     ax.set_xlabel("t")
     ax.set_ylabel("relative error")
     ax.set_title("Drift of the invariants")
+    ax.legend()
+    return ax
+
+
+def dissipation(traj: Trajectory, ax: Axes | None = None) -> Axes:
+    """The energy sink: T and |L| against time, each relative to its value at t[0], with the
+    energies of the separatrix (L^2 / (2 I2)) and of the spin about the largest axis
+    (L^2 / (2 I3)), where a damper takes a body at fixed |L| (``traj.moments`` the principal
+    moments with the rotors locked, ascending).
+
+    Lines: ``"dissipation:energy"``, ``"dissipation:angular_momentum"``,
+    ``"dissipation:separatrix"``, ``"dissipation:largest_axis"``.
+    """
+    _single(traj, "dissipation")
+    ax = _new_axes() if ax is None else ax
+    moments = np.sort(np.asarray(traj.moments, dtype=np.float64))
+    ell = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
+    energy = np.asarray(traj.energy, dtype=np.float64)
+    t0_energy, l2 = energy[0], ell[0] ** 2
+    ax.plot(traj.t, energy / t0_energy, label="T", gid="dissipation:energy")
+    ax.plot(traj.t, ell / ell[0], label="|L|", gid="dissipation:angular_momentum")
+    ax.axhline(
+        l2 / (2 * moments[1]) / t0_energy,
+        color="black",
+        linestyle="--",
+        linewidth=1.0,
+        label="separatrix, L^2/(2 I2)",
+        gid="dissipation:separatrix",
+    )
+    ax.axhline(
+        l2 / (2 * moments[2]) / t0_energy,
+        color="0.5",
+        linestyle=":",
+        linewidth=1.2,
+        label="largest axis, L^2/(2 I3)",
+        gid="dissipation:largest_axis",
+    )
+    ax.set_xlabel("t")
+    ax.set_ylabel("relative to t = 0")
+    ax.set_title("Energy sink: T falls, |L| stays")
     ax.legend()
     return ax
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import sys
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -16,6 +17,8 @@ from polhode import _core
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
 from polhode.bodies import Body
+from polhode.errors import ArgumentError
+from polhode.rotors import as_rotors
 from polhode.torque import as_torque
 
 if TYPE_CHECKING:
@@ -44,10 +47,14 @@ class Trajectory:
         ``orientation=False``.
     angular_momentum_space : (..., M, 3) numpy.ndarray or None
         Angular momentum in space axes (conserved without torque); None without orientation.
+        With rotors, the total of the body and its rotors.
     angular_momentum_body : (..., M, 3) numpy.ndarray
-        Angular momentum in body axes.
+        Angular momentum in body axes; with rotors, the total.
     energy : (..., M) numpy.ndarray
-        Rotational kinetic energy.
+        Rotational kinetic energy; with rotors, the total (the rotors' spin included).
+    rotor_rates : (..., M, R, 3) numpy.ndarray or None
+        With R rotors, each rotor's angular velocity relative to the body, in body axes (a
+        wheel's is its rate along its axis); None without rotors.
     moments : (..., 3) numpy.ndarray
         The principal moments the motion was integrated with (about the pivot for a heavy top).
     stats : dict
@@ -60,6 +67,7 @@ class Trajectory:
     angular_momentum_space: NDArray[np.float64] | None
     angular_momentum_body: NDArray[np.float64]
     energy: NDArray[np.float64]
+    rotor_rates: NDArray[np.float64] | None
     moments: NDArray[np.float64]
     stats: dict[str, Any]
 
@@ -73,6 +81,114 @@ class Trajectory:
         if self.quaternion.ndim == 2:
             return Rotation.from_quat(self.quaternion)
         return [Rotation.from_quat(q) for q in self.quaternion]
+
+    def euler_angles(self, seq: str = "ZXZ", degrees: bool = False) -> NDArray[np.float64]:
+        """The orientation as Euler angles, continuous in time: (..., M, 3).
+
+        ``seq`` as in scipy's ``Rotation.as_euler``: three axes, upper case for intrinsic
+        rotations (``"ZXZ"``, the default: precession, nutation, spin), lower case for
+        extrinsic ones; proper Euler (``"ZXZ"``, ``"ZYZ"``...) or Tait-Bryan (``"ZYX"``...)
+        angles. Each frame is scipy's ``as_euler``; the first and third angles are then
+        unwrapped along time (``np.unwrap``: no 2 pi jumps, so a body that keeps turning gives
+        angles that keep growing), which needs output times close enough that no angle moves by
+        pi or more between two of them. The middle angle stays in scipy's range ([0, pi] for
+        proper Euler angles, [-pi/2, pi/2] for Tait-Bryan ones), where each rotation has one
+        set of angles.
+
+        Gimbal lock: where the middle angle is at an end of its range (within scipy's
+        threshold, about 1e-7 rad), only the sum of the first and third angles (or their
+        difference, by the end and the sequence) is defined. There the third angle keeps its
+        value from the previous output time (0 at the first) and the first angle carries the
+        rest. Near a lock the split between the two is ill-conditioned (they may swing by about
+        pi between output times, or jump by pi where the motion crosses the lock), while the
+        sum or difference that sets the rotation stays continuous: within pi/8 of an end it is
+        kept free of 2 pi jumps too, assuming it moves by less than pi between output times.
+        scipy's gimbal-lock warning is not raised.
+
+        Parameters
+        ----------
+        seq : str
+            The axes, as in ``scipy.spatial.transform.Rotation.as_euler`` (default ``"ZXZ"``).
+        degrees : bool
+            Angles in degrees (default radians).
+
+        Returns
+        -------
+        (..., M, 3) numpy.ndarray
+            The angles of each output time, a batch keeping its leading N.
+        """
+        if not isinstance(seq, str):
+            raise TypeError(
+                f"Expected `seq` to be a string such as 'ZXZ', got {type(seq).__name__}."
+            )
+        if self.quaternion is None:
+            raise ArgumentError(
+                "The trajectory has no orientation (simulated with orientation=False): no Euler "
+                "angles.",
+                argument="orientation",
+            )
+        quaternion = self.quaternion
+        angles = np.stack(
+            [_euler_angles(q, seq) for q in quaternion.reshape(-1, *quaternion.shape[-2:])]
+        )
+        angles = angles.reshape(quaternion.shape[:-1] + (3,))
+        return np.degrees(angles) if degrees else angles
+
+
+def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float64]:
+    """Euler angles (M, 3) of the orientations (M, 4), continuous in time (see
+    :meth:`Trajectory.euler_angles`)."""
+    from scipy.spatial.transform import Rotation
+
+    rotation = Rotation.from_quat(quaternion)
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Gimbal lock", category=UserWarning)
+            angles = rotation.as_euler(seq)
+    except ValueError as error:
+        raise ArgumentError(
+            f"Expected `seq` to be three axes as in scipy's as_euler (e.g. 'ZXZ', 'ZYX', 'xyz'), "
+            f"got {seq!r}: {error}",
+            argument="seq",
+        ) from None
+    if len(angles) == 0:
+        return angles
+    # The two ends of the middle angle's range, and at each the combination first + sign *
+    # third that the rotation depends on there (the other one is free): found by moving the
+    # split both ways at a generic point of the end.
+    proper = seq[0].lower() == seq[2].lower()
+    ends = np.array([0.0, np.pi]) if proper else np.array([-np.pi / 2, np.pi / 2])
+    probe = np.array([[0.3, end, 0.5] for end in ends])
+    moved = probe + [0.2, 0.0, -0.2]
+    keeps_sum = (
+        Rotation.from_euler(seq, moved) * Rotation.from_euler(seq, probe).inv()
+    ).magnitude()
+    signs = np.where(keeps_sum < 1e-12, 1.0, -1.0)
+    nearest = np.argmin(np.abs(angles[:, 1, None] - ends), axis=1)
+    sign = signs[nearest]
+    # At a lock scipy sets the third angle to zero and puts the combination into the first:
+    # the third keeps its previous value instead (0 before any), the first takes the rest.
+    locked = (angles[:, 2] == 0.0) & (np.abs(angles[:, 1] - ends[nearest]) <= 1e-6)
+    if locked.any():
+        third = np.unwrap(angles[:, 2])
+        index = np.where(~locked, np.arange(len(angles)), -1)
+        np.maximum.accumulate(index, out=index)
+        keep = np.where(index >= 0, third[np.maximum(index, 0)], 0.0)[locked]
+        angles[locked, 0] -= sign[locked] * keep
+        angles[locked, 2] = keep
+    angles = np.unwrap(angles, axis=0)
+    # Near a lock (the middle angle within pi/8 of an end) the first and third angles swing by
+    # about pi and unwrapping them apart can leave a whole turn in the combination that sets
+    # the rotation there, which moves by less than pi between two times: whole turns of the
+    # first angle put it back.
+    near = np.abs(angles[:, 1] - ends[nearest]) <= np.pi / 8
+    combination = angles[:, 0] + sign * angles[:, 2]
+    previous = np.concatenate([[0.0], angles[:-1, 0] + sign[1:] * angles[:-1, 2]])
+    turns = np.round((combination - previous) / (2 * np.pi))
+    turns[0] = 0.0
+    turns[~(near | np.concatenate([[False], near[:-1]]))] = 0.0
+    angles[:, 0] -= 2 * np.pi * np.cumsum(turns)
+    return angles
 
 
 #: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
@@ -103,10 +219,13 @@ def _available_memory() -> int | None:
         return None
 
 
-def _check_fits(omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool) -> None:
+def _check_fits(
+    omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool, rotors: int = 0
+) -> None:
     """MemoryError before the work if the outputs cannot fit in this machine's memory."""
     n = omega0.shape[0] if omega0.ndim == 2 else 1
-    per_time = 14 if orientation else 7  # the numbers of every output quantity at one time
+    # The numbers of every output quantity at one time.
+    per_time = (14 if orientation else 7) + 3 * rotors
     size = float(n) * float(times.size) * per_time * 8
     available = _available_memory()
     if available is not None and size > available:
@@ -180,6 +299,7 @@ def simulate(
     orientation: bool = True,
     max_steps: int = 100_000_000,
     progress: bool | Callable[[float], object] = False,
+    rotors: Any = None,
 ) -> Trajectory:
     """The rotation of a rigid body (or a batch), torque-free or with a torque.
 
@@ -202,16 +322,26 @@ def simulate(
         of them (default identity).
     method : {"auto", "exact", "splitting", "midpoint", "rk4", "dop853"}
         ``auto`` is ``exact`` (the closed form: no steps, O(1) per output time) without a torque
-        and ``dop853`` with one. ``splitting`` (Lie-Poisson, symplectic; |L| and L in space
-        exact), ``midpoint`` (implicit; T and |L| exact) and ``rk4`` take a fixed ``dt``.
+        or rotors and ``dop853`` with them. ``splitting`` (Lie-Poisson, symplectic; |L| and L in
+        space exact), ``midpoint`` (implicit; T and |L| exact) and ``rk4`` take a fixed ``dt``.
     dt : float, optional
         Largest step of the fixed-step methods (between output times the steps are equal).
     order : {2, 4, 6}
         Order of the splitting method (default 4).
     rtol, atol : float
-        Tolerances of ``dop853`` (atol defaults to ``rtol * |omega0|``).
+        Tolerances of ``dop853`` (atol defaults to ``rtol * |omega0|``; with rotors, ``rtol``
+        times the largest of ``|omega0|`` and the rotors' initial rates, a wheel's momentum
+        taking ``J atol``).
     torque : polhode.torque model or callable, optional
         See :mod:`polhode.torque`.
+    rotors : sequence of polhode.rotors rotors, optional
+        Reaction wheels and spherical dampers inside the body (each body of a batch has the
+        same), in the body's own axes; see :mod:`polhode.rotors`. The body's inertia includes
+        them, locked. Integrated by ``dop853`` (``auto``) or ``rk4``: each rotor's rate is
+        returned in ``rotor_rates``, and the angular momentum and energy are the totals, rotors
+        included (conserved without external torque and damping; a damper lowers the energy at
+        fixed angular momentum). A wheel driven by a Python function runs the bodies one after
+        another.
     orientation : bool
         Integrate the orientation (default True). False integrates omega alone (cheaper) unless
         the torque depends on the orientation; the trajectory then has no quaternion.
@@ -241,7 +371,8 @@ def simulate(
     if np.ndim(t) == 0:
         times = np.array([t0, float(times[0])])
     omega = _as_float_array("omega0", omega0)
-    _check_fits(omega, times, bool(orientation))
+    rotors = None if rotors is None else as_rotors(rotors)
+    _check_fits(omega, times, bool(orientation), 0 if rotors is None else len(rotors))
     callback, bar = _progress(progress)
     try:
         outputs = _core.simulate(
@@ -259,6 +390,7 @@ def simulate(
             orientation=bool(orientation),
             max_steps=as_integer("max_steps", max_steps),
             progress=callback,
+            rotors=rotors,
         )
     finally:
         if bar is not None:

@@ -9,6 +9,7 @@ mod errors;
 mod frames;
 mod mass;
 mod motion;
+mod rotors;
 mod torque;
 mod watch;
 
@@ -25,6 +26,9 @@ mod _core {
 
     #[pymodule_export]
     use crate::motion::{free_rotation, simulate};
+
+    #[pymodule_export]
+    use crate::rotors::check_rotor;
 
     #[pymodule_export]
     use crate::torque::check_torque;

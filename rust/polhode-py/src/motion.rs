@@ -21,6 +21,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::convert::bad_shape;
 use crate::errors::{argument_error, CoreError};
 use crate::mass::PyMassProperties;
+use crate::rotors::rotor_spec;
 use crate::torque::{calls_python, torque_spec, Raised};
 use crate::watch::{run_on_pool, Watch};
 
@@ -139,8 +140,9 @@ fn orientations(
 /// Integrates one body (`omega0` of shape (3,)) or N bodies (`omega0` (N, 3)): see
 /// `polhode.simulate`. Returns a dict of the outputs by name, a single body without the
 /// leading N: every quantity of `polhode::simulation::Quantity` present (those needing the
-/// orientation only with `orientation=True`), `moments`, `steps`, `rejected_steps`,
-/// `evaluations` and `method`.
+/// orientation only with `orientation=True`, `rotor_rates` only with rotors), `moments`,
+/// `steps`, `rejected_steps`, `evaluations` and `method`. `rotors` is a sequence of
+/// `polhode.rotors` rotors, shared by every body.
 ///
 /// `progress`, if given, is called with the fraction of the work done (in [0, 1],
 /// non-decreasing) every 50 ms of a long run and with 1.0 at the end, on the calling thread.
@@ -154,7 +156,8 @@ fn orientations(
 #[pyfunction]
 #[pyo3(signature = (
     body, omega0, t, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
-    rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None
+    rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None,
+    rotors=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
@@ -173,6 +176,7 @@ pub fn simulate<'py>(
     orientation: bool,
     max_steps: i64,
     progress: Option<Bound<'py, PyAny>>,
+    rotors: Option<Vec<Bound<'py, PyAny>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (omega_shape, omega_data) = dense(&omega0);
     let n = match omega_shape.as_slice() {
@@ -192,12 +196,18 @@ pub fn simulate<'py>(
         .as_ref()
         .map(|t| torque_spec(t, &raised))
         .transpose()?;
+    let rotors = rotors
+        .unwrap_or_default()
+        .iter()
+        .map(|r| rotor_spec(r, &raised))
+        .collect::<PyResult<Vec<_>>>()?;
     let settings = MethodSettings {
         dt,
         order,
         rtol,
         atol,
         torque: spec.is_some(),
+        rotors: !rotors.is_empty(),
     };
     let method = Method::from_name(method, &settings).map_err(CoreError)?;
     if max_steps < 1 {
@@ -212,7 +222,7 @@ pub fn simulate<'py>(
             progress.get_type().name()?
         )));
     }
-    let serial = spec.as_ref().is_some_and(calls_python);
+    let serial = spec.as_ref().is_some_and(calls_python) || rotors.iter().any(|r| r.has_function());
     // Inline on the calling thread: one body, a Python torque (it attaches the GIL), or a
     // call from a thread of the pool itself (a torque function running a simulation, which
     // could otherwise wait for a job queued behind its own thread).
@@ -224,6 +234,7 @@ pub fn simulate<'py>(
         max_steps: max_steps as u64,
         torque: spec,
         parallel: !inline,
+        rotors,
     };
     let span = times.last().map_or(0.0, |&t| t - t0);
     let watch = Arc::new(Watch::new(progress.map(Bound::unbind), omega0.len(), span));
@@ -284,10 +295,8 @@ fn to_dict<'py>(
             .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
     };
     for (quantity, data) in outputs.columns {
-        let shape = match quantity.width() {
-            0 => vec![m],
-            w => vec![m, w],
-        };
+        let mut shape = vec![m];
+        shape.extend(quantity.shape(outputs.rotors));
         dict.set_item(quantity.name(), array(shape, data)?)?;
     }
     dict.set_item("moments", array(vec![3], outputs.moments)?)?;
@@ -310,7 +319,8 @@ fn to_dict<'py>(
 }
 
 /// The torque-free motion's invariants: a dict with energy, angular_momentum_norm, regime,
-/// axis (index or None), period (or None).
+/// axis (index or None), period, precession_rate_space and nutation_angle ((min, max)), each
+/// or None.
 #[pyfunction]
 pub fn free_rotation<'py>(
     py: Python<'py>,
@@ -339,6 +349,8 @@ pub fn free_rotation<'py>(
     out.set_item("period", free.period())?;
     out.set_item("energy", free.energy())?;
     out.set_item("angular_momentum_norm", free.angular_momentum_norm())?;
+    out.set_item("precession_rate_space", free.precession_rate_space())?;
+    out.set_item("nutation_angle", free.nutation_angle())?;
     Ok(out)
 }
 

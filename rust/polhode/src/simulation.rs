@@ -28,8 +28,8 @@ use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 use crate::dynamics::{
-    integrate_body, BodyContext, Method, Moments, Monitor, Options, Segment, State, Stats, Torque,
-    TorqueSpec,
+    integrate_body, integrate_gyrostat, BodyContext, Gyrostat, Method, Moments, Monitor, Options,
+    RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
 };
 use crate::error::finite;
 use crate::mass::{check_rotation, MassProperties};
@@ -62,6 +62,10 @@ pub struct Simulation {
     pub torque: Option<TorqueSpec>,
     /// Run the bodies on the rayon pool (true) or one after another on the calling thread.
     pub parallel: bool,
+    /// Internal rotors (reaction wheels, spherical dampers; see [`crate::dynamics::rotors`]),
+    /// in each body's own axes, shared by every body; integrated by `rk4` or `dop853`. The
+    /// body's inertia includes them, locked.
+    pub rotors: Vec<RotorSpec>,
 }
 
 impl Simulation {
@@ -75,6 +79,7 @@ impl Simulation {
             max_steps: Options::default().max_steps,
             torque: None,
             parallel: true,
+            rotors: Vec::new(),
         }
     }
 }
@@ -86,22 +91,27 @@ pub enum Quantity {
     Omega,
     /// Body-to-space orientation, scalar-last quaternion `(x, y, z, w)`, continuous in time (4).
     Quaternion,
-    /// Angular momentum in space axes (3): conserved without torque.
+    /// Angular momentum in space axes (3): conserved without torque. With rotors, the total
+    /// (body and rotors).
     AngularMomentumSpace,
-    /// Angular momentum in body axes (3).
+    /// Angular momentum in body axes (3); with rotors, the total.
     AngularMomentumBody,
-    /// Rotational kinetic energy (1).
+    /// Rotational kinetic energy (1); with rotors, the total.
     Energy,
+    /// Each rotor's angular velocity relative to the body, body axes (rotors x 3; only with
+    /// rotors).
+    RotorRates,
 }
 
 impl Quantity {
     /// Every quantity, in the order of [`Outputs::columns`].
-    pub const ALL: [Quantity; 5] = [
+    pub const ALL: [Quantity; 6] = [
         Quantity::Omega,
         Quantity::Quaternion,
         Quantity::AngularMomentumSpace,
         Quantity::AngularMomentumBody,
         Quantity::Energy,
+        Quantity::RotorRates,
     ];
 
     /// The name users read (the Python `Trajectory` attribute).
@@ -113,23 +123,38 @@ impl Quantity {
             Quantity::AngularMomentumSpace => "angular_momentum_space",
             Quantity::AngularMomentumBody => "angular_momentum_body",
             Quantity::Energy => "energy",
+            Quantity::RotorRates => "rotor_rates",
         }
     }
 
-    /// Numbers per output time (0 for a scalar, which has no trailing axis).
+    /// The shape of its numbers at one output time, for a run with `rotors` rotors (empty for
+    /// a scalar, which has no trailing axis).
     #[must_use]
-    pub fn width(self) -> usize {
+    pub fn shape(self, rotors: usize) -> Vec<usize> {
         match self {
-            Quantity::Quaternion => 4,
-            Quantity::Energy => 0,
-            _ => 3,
+            Quantity::Quaternion => vec![4],
+            Quantity::Energy => vec![],
+            Quantity::RotorRates => vec![rotors, 3],
+            _ => vec![3],
         }
+    }
+
+    /// Numbers per output time, for a run with `rotors` rotors (1 for a scalar).
+    #[must_use]
+    pub fn width(self, rotors: usize) -> usize {
+        self.shape(rotors).iter().product()
     }
 
     /// Whether it needs the orientation (absent without it).
     #[must_use]
     pub fn needs_orientation(self) -> bool {
         matches!(self, Quantity::Quaternion | Quantity::AngularMomentumSpace)
+    }
+
+    /// Whether it needs rotors (absent without them).
+    #[must_use]
+    pub fn needs_rotors(self) -> bool {
+        matches!(self, Quantity::RotorRates)
     }
 }
 
@@ -138,13 +163,18 @@ struct Sample<'a> {
     body: &'a Prepared,
     omega: &'a Vector3<f64>,
     orientation: Option<&'a UnitQuaternion<f64>>,
+    /// The gyrostat and its rotor variables, with rotors.
+    rotors: Option<(&'a Gyrostat, &'a [f64])>,
 }
 
 impl Sample<'_> {
     /// Writes `quantity` into `out` (its [`Quantity::width`] numbers, or one).
     fn write(&self, quantity: Quantity, out: &mut [f64], previous: &mut Option<Quaternion<f64>>) {
         let moments = self.body.moments.moments();
-        let l = moments.component_mul(self.omega);
+        let l = match self.rotors {
+            Some((gyrostat, vars)) => gyrostat.angular_momentum(self.omega, vars),
+            None => moments.component_mul(self.omega),
+        };
         let to_body = |v: Vector3<f64>| match &self.body.frame {
             Some(frame) => frame.matrix * v,
             None => v,
@@ -152,7 +182,19 @@ impl Sample<'_> {
         match quantity {
             Quantity::Omega => out.copy_from_slice(to_body(*self.omega).as_slice()),
             Quantity::AngularMomentumBody => out.copy_from_slice(to_body(l).as_slice()),
-            Quantity::Energy => out[0] = 0.5 * self.omega.dot(&l),
+            Quantity::Energy => {
+                out[0] = match self.rotors {
+                    Some((gyrostat, vars)) => gyrostat.energy(self.omega, vars),
+                    None => 0.5 * self.omega.dot(&l),
+                }
+            }
+            Quantity::RotorRates => {
+                if let Some((gyrostat, vars)) = self.rotors {
+                    for (k, rate) in gyrostat.rotor_rates(self.omega, vars).iter().enumerate() {
+                        out[3 * k..3 * k + 3].copy_from_slice(to_body(*rate).as_slice());
+                    }
+                }
+            }
             Quantity::AngularMomentumSpace => {
                 if let Some(q) = self.orientation {
                     out.copy_from_slice((q * l).as_slice());
@@ -185,6 +227,8 @@ pub struct Outputs {
     pub n: usize,
     /// Output times.
     pub m: usize,
+    /// Rotors (the widths of [`Quantity::RotorRates`]).
+    pub rotors: usize,
     /// The quantities present (those needing the orientation only with it) and their numbers.
     pub columns: Vec<(Quantity, Vec<f64>)>,
     /// The principal moments each body was integrated with (about the pivot for a heavy top),
@@ -531,22 +575,33 @@ pub fn simulate(
     if let Some(torque) = &run.torque {
         torque.check()?;
     }
+    let rotors = run.rotors.len();
+    if rotors > 0 {
+        crate::dynamics::check_rotor_method(&run.method)?;
+        // The rotors' own parameters, once for all bodies (the body is checked with each).
+        for (k, rotor) in run.rotors.iter().enumerate() {
+            rotor
+                .check()
+                .map_err(|e| e.map_name(|name| format!("rotors[{k}].{name}")))?;
+        }
+    }
     let m = t.len();
     let columns: Vec<Quantity> = Quantity::ALL
         .into_iter()
         .filter(|q| run.with_orientation || !q.needs_orientation())
+        .filter(|q| rotors > 0 || !q.needs_rotors())
         .collect();
-    let per_time: usize = columns.iter().map(|q| q.width().max(1)).sum();
+    let per_time: usize = columns.iter().map(|q| q.width(rotors)).sum();
     let bytes = (n as f64) * (m as f64) * (per_time as f64) * 8.0;
     let mut data: Vec<Vec<f64>> = Vec::with_capacity(columns.len());
     for quantity in &columns {
-        data.push(zeros(n * m * quantity.width().max(1), bytes)?);
+        data.push(zeros(n * m * quantity.width(rotors), bytes)?);
     }
     let mut moments = zeros(3 * n, bytes)?;
     let shared: Vec<(Column, usize)> = data
         .iter_mut()
         .zip(&columns)
-        .map(|(d, q)| (Column(d.as_mut_ptr()), m * q.width().max(1)))
+        .map(|(d, q)| (Column(d.as_mut_ptr()), m * q.width(rotors)))
         .collect();
     let moments_column = Column(moments.as_mut_ptr());
     let one = |i: usize| -> Result<Stats> {
@@ -560,7 +615,6 @@ pub fn simulate(
             max_steps: run.max_steps,
             monitor,
         };
-        let trajectory = integrate_body(&run.method, &body.moments, &state, t, &options)?;
         // SAFETY: body i's ranges; every i is visited once.
         let mut rows: Vec<&mut [f64]> = shared
             .iter()
@@ -568,20 +622,15 @@ pub fn simulate(
             .collect();
         unsafe { moments_column.rows(i, 3) }.copy_from_slice(body.moments.moments().as_slice());
         let mut previous = None;
-        for (j, omega) in trajectory.omega.iter().enumerate() {
+        let mut write = |j: usize, sample: Sample| -> Result<()> {
             // Writing millions of outputs takes a while: looks at the monitor as a run does.
             if j % OUTPUT_LOOK_EVERY == OUTPUT_LOOK_EVERY - 1 {
                 if let Some(monitor) = monitor {
                     monitor.look()?;
                 }
             }
-            let sample = Sample {
-                body: &body,
-                omega,
-                orientation: trajectory.orientation.as_ref().map(|o| &o[j]),
-            };
             for (quantity, row) in columns.iter().zip(rows.iter_mut()) {
-                let w = quantity.width().max(1);
+                let w = quantity.width(rotors);
                 let out = &mut row[j * w..(j + 1) * w];
                 sample.write(*quantity, out, &mut previous);
                 // omega is finite (the integration checks it), but I omega and T can
@@ -598,6 +647,33 @@ pub fn simulate(
                     });
                 }
             }
+            Ok(())
+        };
+        if rotors > 0 {
+            let frame = body.frame.map_or_else(Matrix3::identity, |f| f.matrix);
+            let gyrostat = Gyrostat::new(body.moments.moments(), &frame, &run.rotors)?;
+            let trajectory = integrate_gyrostat(&run.method, &gyrostat, &state, t, &options)?;
+            let k = gyrostat.variables();
+            for (j, omega) in trajectory.omega.iter().enumerate() {
+                let sample = Sample {
+                    body: &body,
+                    omega,
+                    orientation: Some(&trajectory.orientation[j]),
+                    rotors: Some((&gyrostat, &trajectory.variables[j * k..(j + 1) * k])),
+                };
+                write(j, sample)?;
+            }
+            return Ok(trajectory.stats);
+        }
+        let trajectory = integrate_body(&run.method, &body.moments, &state, t, &options)?;
+        for (j, omega) in trajectory.omega.iter().enumerate() {
+            let sample = Sample {
+                body: &body,
+                omega,
+                orientation: trajectory.orientation.as_ref().map(|o| &o[j]),
+                rotors: None,
+            };
+            write(j, sample)?;
         }
         Ok(trajectory.stats)
     };
@@ -617,6 +693,7 @@ pub fn simulate(
     Ok(Outputs {
         n,
         m,
+        rotors,
         columns: columns.into_iter().zip(data).collect(),
         moments,
         stats,

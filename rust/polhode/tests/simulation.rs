@@ -167,7 +167,7 @@ fn columns_without_the_orientation() {
     assert_eq!(names, ["omega", "angular_momentum_body", "energy"]);
     assert!(Quantity::ALL
         .iter()
-        .all(|q| q.needs_orientation() || out.column(q.name()).is_some()));
+        .all(|q| q.needs_orientation() || q.needs_rotors() || out.column(q.name()).is_some()));
 }
 
 #[test]
@@ -304,7 +304,7 @@ fn body_rows(out: &polhode::simulation::Outputs, i: usize) -> Vec<Vec<f64>> {
     out.columns
         .iter()
         .map(|(q, data)| {
-            let len = out.m * q.width().max(1);
+            let len = out.m * q.width(out.rotors);
             data[i * len..(i + 1) * len].to_vec()
         })
         .collect()

@@ -82,8 +82,8 @@ pub const METHODS: &[(&str, Stepping)] = &[
 ];
 
 /// What a method chosen by name may take: the step of a fixed-step method, the splitting's
-/// order, the adaptive method's tolerances, and whether a torque is applied (`"auto"` then
-/// picks `dop853`).
+/// order, the adaptive method's tolerances, and whether a torque or rotors are applied
+/// (`"auto"` then picks `dop853`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MethodSettings {
     /// Largest step of a fixed-step method (required by them).
@@ -96,6 +96,8 @@ pub struct MethodSettings {
     pub atol: Option<f64>,
     /// Whether a torque is applied.
     pub torque: bool,
+    /// Whether the body has rotors (`"auto"` then picks `dop853` too).
+    pub rotors: bool,
 }
 
 impl Default for MethodSettings {
@@ -106,6 +108,7 @@ impl Default for MethodSettings {
             rtol: Dop853Options::default().rtol,
             atol: None,
             torque: false,
+            rotors: false,
         }
     }
 }
@@ -127,7 +130,7 @@ impl Method {
             ..Dop853Options::default()
         });
         Ok(match name {
-            "auto" if settings.torque => dop853,
+            "auto" if settings.torque || settings.rotors => dop853,
             "auto" | "exact" => Method::Exact,
             "splitting" => Method::Splitting {
                 dt: dt()?,
@@ -266,7 +269,7 @@ pub struct Trajectory {
 /// Number of equal substeps covering `[t_prev, t]`, none longer than `dt` by more than the
 /// round-off of the times (at most 1e-12 relative): an interval that is a whole number of `dt`
 /// up to that round-off is not given an extra step.
-fn substeps(t_prev: f64, t: f64, dt: f64) -> f64 {
+pub(crate) fn substeps(t_prev: f64, t: f64, dt: f64) -> f64 {
     let interval = t - t_prev;
     if interval <= 0.0 {
         return 0.0;
@@ -435,7 +438,7 @@ impl Collector {
 
 /// Calls `f(end, output)` for each segment of `[t0, times[-1]]`, ending at every output time
 /// (`output = Some(k)`) and every break strictly between (`None`).
-fn segments(
+pub(crate) fn segments(
     t0: f64,
     times: &[f64],
     breaks: &[f64],

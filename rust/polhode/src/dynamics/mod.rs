@@ -16,6 +16,9 @@
 //! - [`Method::Exact`] (driver only): the closed form of the torque-free body,
 //!   [`crate::exact::FreeRotation`], at each output time.
 //!
+//! A body with internal rotors (reaction wheels, spherical dampers: the gyrostat equations of
+//! [`rotors`]) is integrated by [`integrate_gyrostat`], with `rk4` or `dop853`.
+//!
 //! ```
 //! use nalgebra::Vector3;
 //! use polhode::dynamics::{integrate, Method, Options, SplittingOrder, State};
@@ -37,6 +40,7 @@ mod driver;
 pub mod midpoint;
 mod monitor;
 pub mod rk4;
+pub mod rotors;
 pub mod splitting;
 mod state;
 mod stepper;
@@ -54,6 +58,11 @@ pub use midpoint::{
 };
 pub use monitor::Monitor;
 pub use rk4::{rk4_step, rk4_step_omega, rk4_step_omega_torqued, rk4_step_torqued};
+pub(crate) use rotors::check_rotor_method;
+pub use rotors::{
+    integrate_gyrostat, Gyrostat, GyrostatTrajectory, MotorFn, MotorTorque, RotorFields, RotorSpec,
+    MAX_ROTOR_VARIABLES,
+};
 pub use splitting::{
     splitting_step, splitting_step_omega, splitting_step_omega_torqued, splitting_step_torqued,
     SplittingOrder,

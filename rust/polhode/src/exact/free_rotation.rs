@@ -973,6 +973,98 @@ impl FreeRotation {
         p.map(|x| x.to_f64()).filter(|x| x.is_finite() && *x > 0.0)
     }
 
+    /// The mean rate at which the body turns about `L` in space (rad per unit time): the mean
+    /// rate of the azimuth about `L` of the axis the motion circulates about (the symmetry axis
+    /// of a symmetric top, else the axis of the smallest or the largest moment, as
+    /// [`Regime::AboutAxis`] says), always positive about `+L`.
+    ///
+    /// - A symmetric top: `|L| / I_t` (`I_t` the transverse moment; Landau-Lifshitz par. 33).
+    /// - Three distinct moments: the azimuth is the precession angle `phi` of the z-x-z Euler
+    ///   angles with space z along `L` and body z along that axis `p` (module doc). Over one
+    ///   period `P` of omega it gains `phi(P) - phi(0) = G P / I_x + C (J(u0 + 4K) - J(u0))`,
+    ///   and `J` gains `2 cel(k', 1 + nu, 0, 1)` per `2K` (the complete elliptic integral of
+    ///   the third kind in Bulirsch's form): mean rate `G / I_x + C lambda cel(k', 1 + nu, 0, 1)
+    ///   / K`. When the evaluation uses the other extreme axis `a` as its polar axis (better
+    ///   conditioned), `m` does not wind about `a`, and the azimuth of `p` gains one turn more
+    ///   (p the largest moment) or less (the smallest) per period than that of `a`:
+    ///   `+- 2 pi / P` is added.
+    /// - A steady rotation about the axis `p` of the smallest or the largest moment: the limit
+    ///   of the motions about it, `|w| (1 +- sqrt((I_p - I_a)(I_p - I_b) / (I_a I_b)))` (`+` for
+    ///   the largest), which for `I_a = I_b` is `|L| / I_t`; a sphere turns at `|w|`.
+    /// - `None` at rest, on the separatrix and in steady rotation about the intermediate axis
+    ///   (no mean: the motion is not periodic about an axis).
+    pub fn precession_rate_space(&self) -> Option<f64> {
+        let rate = match &self.motion {
+            Motion::Steady { .. } => match self.regime {
+                Regime::Spherical => self.momentum / self.moments[0],
+                Regime::AboutAxis(p) => {
+                    let (ia, ib, ip) = (
+                        self.moments[(p + 1) % 3],
+                        self.moments[(p + 2) % 3],
+                        self.moments[p],
+                    );
+                    let root = ((ip - ia) / ia * ((ip - ib) / ib)).sqrt();
+                    let sign = if ip > ia { 1.0 } else { -1.0 };
+                    self.omega0[p].abs() * (1.0 + sign * root)
+                }
+                _ => return None,
+            },
+            Motion::Symmetric(s) => Xd::from_dd(s.nutation_rate).ldexp(s.rho).to_f64(),
+            Motion::Elliptic(e) => {
+                let c = &e.c;
+                let mut rate = c.base_rate + c.coef * c.lambda * e.j_half / (e.k * 2.0);
+                if c.euler_cyclic {
+                    // sign(I3 - I2) in the canonical frame = s2 s3.
+                    rate = rate + Dd::PI * c.lambda / e.k * (0.5 * c.s[1] * c.s[2]);
+                }
+                Xd::from_dd(rate).ldexp(c.rho).to_f64()
+            }
+            Motion::Separatrix(_) => return None,
+        };
+        Some(rate).filter(|r| r.is_finite())
+    }
+
+    /// The range `(min, max)` of the nutation angle: the angle between `L` and the axis the
+    /// motion circulates about (as [`FreeRotation::precession_rate_space`] names it; its
+    /// direction as given, so an angle above `pi/2` means `L` is nearer its negative end).
+    ///
+    /// A symmetric top nutates at a constant angle, `cos theta = I_s w_s / |L|`. With three
+    /// distinct moments, `m_p = s3 B3 dn u` swings between `B3` (where `m` has the component
+    /// `B1` across it) and `k' B3` (across it `B2`): `theta` from `atan2(B1, B3)` to
+    /// `atan2(B2, k' B3)`. A steady rotation about the axis of the smallest or the largest
+    /// moment: 0 (or pi). `None` at rest, for a sphere, on the separatrix and in steady
+    /// rotation about the intermediate axis.
+    pub fn nutation_angle(&self) -> Option<(f64, f64)> {
+        use std::f64::consts::PI;
+        match &self.motion {
+            Motion::Steady { .. } => match self.regime {
+                Regime::AboutAxis(p) => {
+                    let theta = if self.omega0[p] > 0.0 { 0.0 } else { PI };
+                    Some((theta, theta))
+                }
+                _ => None,
+            },
+            Motion::Symmetric(s) => {
+                let m = &s.m_dir;
+                let (a, b) = ((s.axis + 1) % 3, (s.axis + 2) % 3);
+                let theta = m[a].hypot(m[b]).atan2(m[s.axis]);
+                Some((theta, theta))
+            }
+            Motion::Elliptic(e) => {
+                let c = &e.c;
+                let [b1, b2, b3] = c.b;
+                let lo = Sd::atan2(b1, b3);
+                let hi = Sd::atan2(b2, b3.mul(Sd::new(e.kp, e.kp_exp)));
+                if c.frame.sign[2] * c.s[2] > 0.0 {
+                    Some((lo, hi))
+                } else {
+                    Some((PI - hi, PI - lo))
+                }
+            }
+            Motion::Separatrix(_) => None,
+        }
+    }
+
     /// Kinetic energy `T = omega . I omega / 2` (constant).
     pub fn energy(&self) -> f64 {
         self.energy
