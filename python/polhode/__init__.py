@@ -1,15 +1,17 @@
 """polhode: the rotation of rigid bodies, with a Rust core.
 
 Mass properties and principal axes (:class:`Body`, :func:`principal`), motion
-(:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); see the README.
+(:func:`simulate`, :mod:`polhode.torque`) and understanding (:func:`analyze`); files in
+(:mod:`polhode.io`: meshes, URDF, MJCF, and their audit); see the README.
 """
 
-from polhode import errors, plot, torque
+from polhode import errors, io, plot, torque
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.errors import (
     ArgumentError,
     ConvergenceError,
+    FileFormatError,
     InertiaError,
     NonFiniteError,
     NonPositiveError,
@@ -25,6 +27,7 @@ __all__ = [
     "ArgumentError",
     "Body",
     "ConvergenceError",
+    "FileFormatError",
     "InertiaError",
     "NonFiniteError",
     "NonPositiveError",
@@ -34,6 +37,7 @@ __all__ = [
     "Trajectory",
     "analyze",
     "errors",
+    "io",
     "perturbation",
     "plot",
     "principal",

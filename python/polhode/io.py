@@ -763,7 +763,8 @@ def _mjcf_spec(path: str) -> Any:
         message = str(error).strip()
         element = re.search(r"Element '([^']*)'", message)
         line = re.search(r"line (\d+)", message)
-        body = _mjcf_body_at(path, int(line.group(1))) if line else None
+        tag = element.group(1) if element else None
+        body = _mjcf_body_at(path, int(line.group(1)), tag) if line else None
         where = f"body {body!r}: " if body else ""
         raise FileFormatError(
             f"{path}: {where}{message}",
@@ -773,31 +774,27 @@ def _mjcf_spec(path: str) -> Any:
         ) from error
 
 
-def _mjcf_body_at(path: str, line: int) -> str | None:
-    """The name of the innermost <body> around the element on ``line``, if it can be found."""
-    try:
-        import xml.etree.ElementTree as ET
+def _mjcf_body_at(path: str, line: int, tag: str | None) -> str | None:
+    """The name of the innermost named <body> around (or at) the ``tag`` element that starts
+    on ``line``, if it can be found."""
+    import xml.etree.ElementTree as ET
 
+    try:
         parser = ET.XMLPullParser(events=("start", "end"))
         with open(path, "rb") as handle:
-            text = handle.read()
+            lines = handle.read().split(b"\n")
         stack: list[str | None] = []
-        # ElementTree has no line numbers; count them on the text instead.
-        lines = text.split(b"\n")
-        found = None
-        for number, chunk in enumerate(lines, start=1):
+        for number, chunk in enumerate(lines[:line], start=1):
             parser.feed(chunk + b"\n")
             for event, element in parser.read_events():
-                if element.tag == "body":
-                    if event == "start":
-                        stack.append(element.get("name"))
-                    else:
-                        stack.pop()
-            if number == line:
-                found = next((n for n in reversed(stack) if n), None)
-                break
-        return found
-    except Exception:  # only decorates a message; the error itself is raised anyway
+                if event == "start" and element.tag == "body":
+                    stack.append(element.get("name"))
+                if event == "start" and number == line and tag in (None, element.tag):
+                    return next((n for n in reversed(stack) if n), None)
+                if event == "end" and element.tag == "body":
+                    stack.pop()
+        return None
+    except (ET.ParseError, OSError, IndexError):  # only decorates a message
         return None
 
 
@@ -977,7 +974,7 @@ def _mjcf_mesh(
     spec: Any, mujoco: Any, path: str, folder: str, body: str, field: str, geom: Any
 ) -> Body:
     """A mesh geom's mesh as a unit-density body in the geom's frame (MuJoCo's mesh: the file
-    or the inline vertices, scaled, moved by refpos/refquat; the convex hull for
+    or the inline vertices, moved by refpos/refquat, then scaled; the convex hull for
     inertia="convex" or vertices without faces; a shell for inertia="shell")."""
     mesh = spec.mesh(geom.meshname)
     if mesh is None:
@@ -1001,13 +998,11 @@ def _mjcf_mesh(
                 link=body,
                 field=f"{field}.mesh.file",
             )
-        vertices, faces = _mesh_arrays(filename, scale)
+        vertices, faces = _mesh_arrays(filename, np.ones(3))
         source = filename
     elif len(mesh.uservert):
-        vertices = np.asarray(mesh.uservert, dtype=float).reshape(-1, 3) * scale
+        vertices = np.asarray(mesh.uservert, dtype=float).reshape(-1, 3)
         faces = np.asarray(mesh.userface, dtype=np.int64).reshape(-1, 3)
-        if np.prod(scale) < 0 and len(faces):
-            faces = faces[:, ::-1]
         source = path
     else:
         raise FileFormatError(
@@ -1017,10 +1012,16 @@ def _mjcf_mesh(
             link=body,
             field=f"{field}.mesh",
         )
+    # As MuJoCo's compiler: refpos subtracted, turned back by refquat, then scaled.
     refpos = np.asarray(mesh.refpos, dtype=float)
     refquat = np.asarray(mesh.refquat, dtype=float)
-    if np.any(refpos) or not np.array_equal(refquat, [1.0, 0.0, 0.0, 0.0]):
-        vertices = (vertices - refpos) @ _quat_matrix(refquat)
+    if np.any(refpos):
+        vertices = vertices - refpos
+    if not np.array_equal(refquat, [1.0, 0.0, 0.0, 0.0]):
+        vertices = vertices @ _quat_matrix(refquat)
+    vertices = vertices * scale
+    if np.prod(scale) < 0 and len(faces):
+        faces = np.ascontiguousarray(faces[:, ::-1])
     kind = mesh.inertia
     shell = kind == mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
     if len(faces) == 0 or kind == mujoco.mjtMeshInertia.mjMESH_INERTIA_CONVEX:
