@@ -196,6 +196,88 @@ def test_explicit_inertials_in_every_orientation_against_mujoco(tmp_path, angle,
     assert max(relative_errors(body, mesh.mass, com, tensor)) <= 64 * EPS
 
 
+GEOMS = """<mujoco>
+  <compiler angle="radian" meshdir="meshes" inertiagrouprange="0 2"/>
+  <asset><mesh name="cube" file="cube.stl" scale="0.1 0.2 0.3" inertia="exact"/></asset>
+  <worldbody>
+    <body name="framed"><freejoint/>
+      <frame pos="0.1 0 0" euler="0 0 0.7">
+        <frame pos="0 0.2 0" quat="0.9 0.3 0.1 -0.2">
+          <geom type="box" size="0.1 0.05 0.02" pos="0 0 0.1" euler="0.2 0.1 0" density="800"/>
+        </frame>
+        <geom type="ellipsoid" size="0.05 0.1 0.15" pos="0 0 -0.1"/>
+      </frame>
+    </body>
+    <body name="shell"><freejoint/>
+      <geom type="sphere" size="0.2" shellinertia="true" density="3"/>
+      <geom type="capsule" size="0.02" fromto="0 0 0 0 0 0.5" mass="0"/>
+      <geom type="cylinder" size="0.3 0.3" group="3"/>
+    </body>
+    <body name="stl" pos="1 0 0"><freejoint/>
+      <geom type="mesh" mesh="cube" pos="0.05 0 0" quat="0.5 0.5 0.5 0.5" mass="2"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def write_unit_cube_stl(path):
+    """A binary STL of the unit cube [0, 1]^3 (12 triangles, outward)."""
+    import struct
+
+    v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    faces = [(0, 2, 1), (0, 3, 2), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4), (1, 2, 6),
+             (1, 6, 5), (2, 3, 7), (2, 7, 6), (3, 0, 4), (3, 4, 7)]  # fmt: skip
+    with open(path, "wb") as handle:
+        handle.write(b"cube".ljust(80) + struct.pack("<I", len(faces)))
+        for f in faces:
+            handle.write(struct.pack("<3f", 0, 0, 0))
+            for i in f:
+                handle.write(struct.pack("<3f", *v[i]))
+            handle.write(b"\0\0")
+
+
+def test_frames_shells_groups_and_mesh_files_against_mujoco(tmp_path):
+    # Geoms in nested frames, a spherical shell, a geom of mass 0 and one outside the inertia
+    # group range (both left out, as MuJoCo does), a mesh file under the compiler's meshdir.
+    (tmp_path / "meshes").mkdir()
+    write_unit_cube_stl(tmp_path / "meshes" / "cube.stl")
+    path = tmp_path / "geoms.xml"
+    path.write_text(GEOMS)
+    model = mujoco.MjSpec.from_file(str(path)).compile()
+    bodies = ph.io.read_mjcf(path)
+    compare_with_mujoco(bodies, model)
+    # The shell alone, by its closed form: m = 3 x 4 pi r^2, I = 2/3 m r^2.
+    m = 3 * 4 * np.pi * 0.04
+    assert max(relative_errors(bodies["shell"], m, [0, 0, 0], np.eye(3) * m * 0.04 * 2 / 3)) < 1e-15
+
+
+def test_mjcf_density_mass_and_inertiafromgeom(tmp_path):
+    xml = """<mujoco><compiler inertiafromgeom="{flag}"/><worldbody>
+      <body name="declared"><inertial pos="0 0 0" mass="5" diaginertia="1 1 1"/>
+        <geom type="sphere" size="1"/></body>
+      <body name="ball"><geom type="sphere" size="0.1" density="500"/></body>
+      <body name="brick"><geom type="box" size="0.1 0.2 0.3" mass="7"/></body>
+    </worldbody></mujoco>"""
+    path = tmp_path / "m.xml"
+    path.write_text(xml.format(flag="auto"))
+    v_ball, v_brick = 4 / 3 * np.pi * 0.1**3, 0.2 * 0.4 * 0.6
+    bodies = ph.io.read_mjcf(path)  # the file's densities and masses
+    assert bodies["ball"].mass == pytest.approx(500 * v_ball, rel=1e-15)
+    assert bodies["brick"].mass == pytest.approx(7.0, rel=1e-15)
+    bodies = ph.io.read_mjcf(path, density=1000.0)  # one density for the inferred bodies
+    assert bodies["declared"].mass == 5.0
+    assert bodies["ball"].mass == pytest.approx(1000 * v_ball, rel=1e-15)
+    assert bodies["brick"].mass == pytest.approx(1000 * v_brick, rel=1e-15)
+    i_brick = 1000 * v_brick / 12 * np.diag([0.16 + 0.36, 0.04 + 0.36, 0.04 + 0.16])
+    assert np.allclose(bodies["brick"].inertia, i_brick, rtol=1e-14, atol=0)
+    bodies = ph.io.read_mjcf(path, mass=10.0)  # a total shared by volume
+    assert bodies["ball"].mass + bodies["brick"].mass == pytest.approx(10.0, rel=1e-15)
+    assert bodies["ball"].mass / bodies["brick"].mass == pytest.approx(v_ball / v_brick)
+    path.write_text(xml.format(flag="false"))  # MuJoCo infers nothing: massless bodies
+    assert list(ph.io.read_mjcf(path)) == ["declared"]
+
+
 # --- URDF against its XML, yourdfpy and MuJoCo ------------------------------------------------
 
 
@@ -681,7 +763,10 @@ def test_cli_audit_exit_status_and_table():
     assert "12 links: 3 errors, 7 warnings" in result.stdout
     ok = run_cli(upkie_urdf())
     assert ok.returncode == 0, ok.stderr
-    assert "41 links: 0 errors" in ok.stdout
+    assert "41 links: 0 errors, 12 warnings" in ok.stdout
+    # The femurs' and tibias' tensors differ from their cylinders by 0.98: within --rtol 2.
+    loose = run_cli(upkie_urdf(), "--rtol", "2")
+    assert "41 links: 0 errors, 8 warnings" in loose.stdout
 
 
 @pytest.mark.parametrize("name", ["missing.urdf", "not_xml.urdf"])

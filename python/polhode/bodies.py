@@ -658,7 +658,7 @@ class Body:
                 argument="matrix",
             )
         lower = s[3:, 3:]
-        m = float(np.trace(lower)) / 3
+        m = float(np.median(np.diag(lower)))  # exact when the three agree
         if not m > 0:
             raise NonPositiveError(
                 f"Expected `matrix` to have a positive mass m in its m 1 block, got {m:g}.",
