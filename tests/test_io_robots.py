@@ -252,6 +252,35 @@ def test_frames_shells_groups_and_mesh_files_against_mujoco(tmp_path):
     assert max(relative_errors(bodies["shell"], m, [0, 0, 0], np.eye(3) * m * 0.04 * 2 / 3)) < 1e-15
 
 
+def test_non_convex_mesh_is_exact_where_mujocos_legacy_is_not(tmp_path):
+    # An L-shaped prism (non-convex): MuJoCo's default mesh inertia ("legacy") overstates its
+    # volume; polhode integrates it exactly, as trimesh does and MuJoCo does with "exact".
+    outline = np.array([(0, 0), (3, 0), (3, 0.5), (0.5, 0.5), (0.5, 3), (0, 3)], float)
+    triangles = np.array([(0, 1, 2), (0, 2, 3), (0, 3, 4), (0, 4, 5)])
+    prism = trimesh.creation.extrude_triangulation(outline, triangles, 1.0)
+    assert prism.is_watertight and prism.volume == pytest.approx(2.75, rel=1e-15)
+    stl = tmp_path / "L.stl"
+    prism.export(stl)
+    xml = (
+        '<mujoco><asset><mesh name="L" file="L.stl" inertia="{kind}"/></asset><worldbody>'
+        '<body name="b"><freejoint/><geom type="mesh" mesh="L"/></body></worldbody></mujoco>'
+    )
+    exact = trimesh.load_mesh(stl)
+    exact.density = 1000.0
+    for kind in ("legacy", "exact"):
+        path = tmp_path / f"{kind}.xml"
+        path.write_text(xml.format(kind=kind))
+        body = ph.io.read_mjcf(path)["b"]
+        assert (
+            max(relative_errors(body, exact.mass, exact.center_mass, exact.moment_inertia)) < 1e-14
+        )
+        model = mujoco.MjSpec.from_file(str(path)).compile()
+        if kind == "exact":
+            compare_with_mujoco({"b": body}, model, bound=1e-10)  # MuJoCo's eigEPS, as above
+        else:
+            assert model.body_mass[1] > 1.5 * body.mass  # MuJoCo's legacy volume: 4.37, not 2.75
+
+
 def test_mjcf_density_mass_and_inertiafromgeom(tmp_path):
     xml = """<mujoco><compiler inertiafromgeom="{flag}"/><worldbody>
       <body name="declared"><inertial pos="0 0 0" mass="5" diaginertia="1 1 1"/>

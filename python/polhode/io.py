@@ -64,9 +64,6 @@ __all__ = ["Finding", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_u
 #: The mesh formats :func:`read_mesh` reads (by the file's extension), all through trimesh.
 MESH_FORMATS = ("stl", "obj", "ply", "off", "gltf", "glb")
 
-#: Severities of a :class:`Finding`, worst first.
-SEVERITIES = ("error", "warning", "info", "ok")
-
 
 # --- shared helpers --------------------------------------------------------------------------
 
@@ -1057,7 +1054,14 @@ def read_mjcf(
     capsules, cylinders, ellipsoids, boxes and meshes, with their ``fromto``, frames, and
     each geom's ``density`` or ``mass``; geoms outside the compiler's ``inertiagrouprange``
     left out), computed by polhode. ``density`` or ``mass`` replace the file's densities for
-    those bodies. Bodies of no mass are left out; so is the world.
+    those bodies (a geom the file gives no mass, ``density="0"`` or ``mass="0"`` as visual
+    geoms have, stays out). Bodies of no mass are left out; so is the world.
+
+    A mesh's ``inertia`` attribute is followed for ``"convex"`` (its convex hull, also used
+    for vertices without faces) and ``"shell"``; ``"exact"`` and MuJoCo's default
+    ``"legacy"`` both give the exact integrals of the closed mesh. MuJoCo's legacy integration
+    differs for non-convex meshes (it overstates an L-shaped prism's mass by 59%); polhode's
+    value is then the right one, and MuJoCo's agrees with it with ``inertia="exact"``.
 
     Parameters
     ----------
