@@ -736,6 +736,8 @@ def test_urdf_not_a_urdf(tmp_path, text, match):
          "inertial.mass"),
         ('<body name="g"><geom type="box" size="0.1 -0.1 0.1"/></body>', "g", "geom[0].size"),
         ('<body name="h"><geom type="mesh" mesh="gone"/></body>', None, None),
+        ('<body name="f"><geom type="box" mesh="m"/></body></worldbody><asset><mesh name="m" '
+         'vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset><worldbody>', "f", "geom[0].mesh"),
     ],
 )  # fmt: skip
 def test_broken_mjcf_names_the_file_body_and_field(tmp_path, body, link, field):

@@ -896,6 +896,11 @@ def _mjcf_geom(
 
     if kind in (t.mjGEOM_PLANE, t.mjGEOM_HFIELD, t.mjGEOM_SDF):
         raise fail(f"a {str(kind).split('_')[-1].lower()} geom has no volume polhode computes.")
+    if geom.meshname and kind != t.mjGEOM_MESH:
+        raise fail(
+            "a primitive fitted to a mesh (a mesh attribute on a non-mesh geom) is not supported.",
+            "mesh",
+        )
     if not np.isnan(fromto[0]):
         if kind not in (t.mjGEOM_CAPSULE, t.mjGEOM_CYLINDER, t.mjGEOM_ELLIPSOID, t.mjGEOM_BOX):
             raise fail("fromto applies to capsules, cylinders, ellipsoids and boxes.", "fromto")
@@ -1044,8 +1049,9 @@ def read_mjcf(
 
     The file is parsed by MuJoCo (``mujoco.MjSpec.from_file``) and its values are taken as
     written, before MuJoCo's compiler changes or rejects them (``settotalmass``,
-    ``boundmass``, ``balanceinertia`` are not applied; a tensor that breaks the triangle
-    inequality raises here with the body's name, as :func:`audit` reports it).
+    ``boundmass``, ``balanceinertia`` are not applied, nor ``inertiafromgeom="true"``'s
+    replacing of declared inertials; a tensor that breaks the triangle inequality raises here
+    with the body's name, as :func:`audit` reports it).
 
     A body with an ``<inertial>`` gets it: ``pos``, ``mass`` and ``diaginertia`` turned by
     ``quat`` (or euler, axisangle, xyaxes, zaxis, in the file's angle unit and Euler sequence),
