@@ -2,11 +2,11 @@
 
 Mass properties and principal axes (:class:`Body`, :func:`principal`), molecules
 (:meth:`Body.from_atoms`, :mod:`polhode.molecule`), motion (:func:`simulate`,
-:mod:`polhode.torque`, :mod:`polhode.rotors`) and understanding (:func:`analyze`); see the
-README.
+:mod:`polhode.torque`, :mod:`polhode.rotors`) and understanding (:func:`analyze`); files in
+(:mod:`polhode.io`: meshes, URDF, MJCF, and their audit); see the README.
 """
 
-from polhode import errors, molecule, plot, rotors, torque
+from polhode import errors, io, molecule, plot, rotors, torque
 from polhode._core import cancel_all
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
@@ -14,6 +14,7 @@ from polhode.errors import (
     ArgumentError,
     CancelledError,
     ConvergenceError,
+    FileFormatError,
     InertiaError,
     NonFiniteError,
     NonPositiveError,
@@ -30,6 +31,7 @@ __all__ = [
     "Body",
     "CancelledError",
     "ConvergenceError",
+    "FileFormatError",
     "InertiaError",
     "NonFiniteError",
     "NonPositiveError",
@@ -41,6 +43,7 @@ __all__ = [
     "cancel_all",
     "errors",
     "molecule",
+    "io",
     "perturbation",
     "plot",
     "point_masses_inertia",

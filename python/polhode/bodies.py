@@ -10,10 +10,21 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_rotation_matrix, as_scalar
-from polhode.errors import ArgumentError, PolhodeError, ShapeError
+from polhode.errors import (
+    ArgumentError,
+    InertiaError,
+    NonFiniteError,
+    NonPositiveError,
+    PolhodeError,
+    ShapeError,
+)
 from polhode.principal_axes import Principal
 
-__all__ = ["Body"]
+__all__ = ["SPATIAL_CONVENTIONS", "Body"]
+
+#: Block orders of :meth:`Body.spatial_inertia`: Featherstone's and Drake's angular first,
+#: Pinocchio's linear first.
+SPATIAL_CONVENTIONS = ("featherstone", "drake", "pinocchio")
 
 
 _URDF_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
@@ -45,6 +56,11 @@ def _fixed_axis_rpy(matrix: NDArray[np.float64]) -> tuple[float, float, float]:
     pitch = math.atan2(-r[2, 0], m00)
     roll = math.atan2(-m12, m11)
     return roll, pitch, yaw
+
+
+def _cross_matrix(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """[v]: the matrix of the cross product, [v] w = v x w."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 def _as_faces(faces: Any) -> NDArray[np.int64]:
@@ -574,6 +590,265 @@ class Body:
             f'  <inertia ixx="{m[0]}" ixy="0" ixz="0" iyy="{m[1]}" iyz="0" izz="{m[2]}"/>\n'
             "</inertial>"
         )
+
+    # --- mesh files and spatial inertia (polhode.io reads robot descriptions) ---------------
+
+    @classmethod
+    def from_file(
+        cls,
+        path: Any,
+        *,
+        density: float | None = None,
+        mass: float | None = None,
+        shell: bool = False,
+        scale: Any = 1.0,
+        fix_winding: bool = False,
+    ) -> Body:
+        """A uniform body from a mesh file: STL (ascii and binary), OBJ, PLY, OFF, glTF or GLB.
+
+        The file is read by trimesh's loaders (``pip install 'polhode[mesh]'``); the mass
+        properties are polhode's exact mesh integrals. A file holding several meshes (glTF
+        nodes, OBJ objects, STL solids) gives their composite; :func:`polhode.io.read_mesh`
+        returns the parts by name, and this body is their sum.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The mesh file (its extension says the format).
+        density, mass : float
+            Exactly one: mass per volume (per area with ``shell=True``), or the total mass.
+        shell : bool
+            The mass on the surface (a thin shell; the mesh need not be closed).
+        scale : float or (3,) floats
+            Applied to the coordinates (0.001 reads millimetres as metres); three numbers
+            scale each axis, a negative one mirrors.
+        fix_winding : bool
+            Turn an inside-out mesh the right way out instead of raising.
+
+        Raises
+        ------
+        FileNotFoundError
+            No such file.
+        polhode.errors.FileFormatError
+            Not a mesh, no triangles, an open mesh (without ``shell=True``), an inside-out or
+            zero-volume one; the message names the file and the part.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import polhode as ph
+        >>> off = ("OFF\\n8 12 0\\n0 0 0\\n1 0 0\\n1 1 0\\n0 1 0\\n0 0 1\\n1 0 1\\n1 1 1\\n"
+        ...        "0 1 1\\n3 0 2 1\\n3 0 3 2\\n3 4 5 6\\n3 4 6 7\\n3 0 1 5\\n3 0 5 4\\n"
+        ...        "3 1 2 6\\n3 1 6 5\\n3 2 3 7\\n3 2 7 6\\n3 3 0 4\\n3 3 4 7\\n")
+        >>> path = os.path.join(tempfile.mkdtemp(), "cube.off")
+        >>> with open(path, "w") as handle:
+        ...     _ = handle.write(off)
+        >>> cube = ph.Body.from_file(path, mass=6.0, scale=0.5)  # a 0.5 m cube of 6 kg
+        >>> cube.center_of_mass.tolist(), round(float(cube.inertia[0, 0]), 12)
+        ([0.25, 0.25, 0.25], 0.25)
+        """
+        from polhode.io import read_mesh
+
+        parts = list(
+            read_mesh(
+                path,
+                density=density,
+                mass=mass,
+                shell=shell,
+                scale=scale,
+                fix_winding=fix_winding,
+            ).values()
+        )
+        return sum(parts[1:], parts[0])
+
+    def spatial_inertia(
+        self, point: Any = None, *, convention: str = "featherstone", inverse: bool = False
+    ) -> NDArray[np.float64]:
+        """The (6, 6) spatial inertia about ``point``, in body axes.
+
+        With c the centre of mass relative to ``point``, [c] its cross-product matrix
+        ([c] v = c x v), m the mass and I_p the inertia tensor about ``point``
+        (I_p = I_c + m [c][c]^T):
+
+        - ``"featherstone"`` (angular block first, for spatial vectors (omega, v)):
+          ``[[I_p, m [c]], [m [c]^T, m 1]]``;
+        - ``"drake"``: Drake's ``SpatialInertia.CopyToFullMatrix6()``, the same matrix
+          (Drake's spatial vectors are also angular first);
+        - ``"pinocchio"`` (linear block first, for (v, omega)), Pinocchio's
+          ``Inertia.matrix()``: ``[[m 1, -m [c]], [m [c], I_p]]``.
+
+        Parameters
+        ----------
+        point : (3,) array-like, optional
+            The reference point in body coordinates; default the origin of the body's
+            coordinates (a robot link's frame origin, where URDF and MJCF express a link's
+            spatial inertia). Pass ``body.center_of_mass`` for the centroidal one.
+        convention : {"featherstone", "drake", "pinocchio"}
+            The order of the blocks.
+        inverse : bool
+            Return the inverse (the spatial compliance), from its closed form:
+            ``[[I_c^-1, -I_c^-1 [c]], [[c] I_c^-1, 1/m - [c] I_c^-1 [c]]]`` (Featherstone
+            order). A body with a zero principal moment (a rod, a point mass) has none
+            (InertiaError).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import polhode as ph
+        >>> rod = ph.Body.cylinder(2.0, 0.01, 1.0).translated([0.0, 0.0, 0.5])
+        >>> s = rod.spatial_inertia()  # about the end of the rod
+        >>> round(float(s[0, 0]), 6), s[3:, 3:].tolist()[0], float(s[0, 4])
+        (0.666717, [2.0, 0.0, 0.0], -1.0)
+        >>> bool(np.allclose(rod.spatial_inertia(inverse=True) @ s, np.eye(6)))
+        True
+        """
+        if convention not in SPATIAL_CONVENTIONS:
+            raise ArgumentError(
+                f"Expected `convention` to be one of {', '.join(SPATIAL_CONVENTIONS)}, "
+                f"got {convention!r}.",
+                argument="convention",
+            )
+        if not isinstance(inverse, bool | np.bool_):
+            raise TypeError(f"Expected `inverse` to be a bool, got {type(inverse).__name__}.")
+        p = np.zeros(3) if point is None else as_array("point", point, (3,))
+        m = self.mass
+        c = self.center_of_mass - p
+        cross = _cross_matrix(c)
+        out = np.empty((6, 6))
+        if not inverse:
+            out[:3, :3] = self.inertia_about(p)
+            out[:3, 3:] = m * cross
+            out[3:, :3] = m * cross.T
+            out[3:, 3:] = m * np.eye(3)
+        else:
+            moments, axes, _ = self._core.principal(None)
+            if not moments[0] > 0:
+                raise InertiaError(
+                    "Expected a body with positive principal moments for the inverse spatial "
+                    f"inertia, got {moments.tolist()}: the spatial inertia is singular.",
+                    argument="inverse",
+                )
+            inv = (axes / moments) @ axes.T  # I_c^-1 from the principal axes
+            inv = (inv + inv.T) / 2
+            out[:3, :3] = inv
+            out[:3, 3:] = -inv @ cross
+            out[3:, :3] = cross @ inv
+            lower = np.eye(3) / m - cross @ inv @ cross
+            out[3:, 3:] = (lower + lower.T) / 2
+        if convention == "pinocchio":
+            out = np.block([[out[3:, 3:], out[3:, :3]], [out[:3, 3:], out[:3, :3]]])
+        return out
+
+    @classmethod
+    def from_spatial_inertia(
+        cls,
+        matrix: Any,
+        point: Any = None,
+        *,
+        convention: str = "featherstone",
+        rtol: float = 1e-12,
+    ) -> Body:
+        """A body from its (6, 6) spatial inertia about ``point`` (body coordinates; default
+        the origin), in the block order of ``convention`` (see :meth:`spatial_inertia`).
+
+        The matrix is checked: symmetric, its mass block m times the identity with m > 0, its
+        coupling block m times a cross-product matrix (skew), each to ``rtol`` times the
+        largest entry; the rotational inertia about the centre of mass it implies must be a
+        valid inertia tensor (positive semidefinite, triangle inequality). Each failure
+        raises a typed error naming ``matrix``.
+
+        The format holds the inertia about ``point``, I_p = I_c + m [c][c]^T; recovering I_c
+        subtracts, so a point far from the centre of mass costs digits (the error is about
+        eps ||I_p||, not eps ||I_c||). ``point=body.center_of_mass`` loses none.
+
+        Raises
+        ------
+        polhode.errors.ShapeError
+            Not (6, 6).
+        polhode.errors.NonFiniteError, NonPositiveError
+            A NaN or infinity; a mass block that is not positive.
+        polhode.errors.InertiaError
+            Not symmetric, a mass block that is not m 1, a coupling block that is not skew, or
+            an implied inertia tensor that is not one.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import polhode as ph
+        >>> body = ph.Body.cuboid(3.0, [0.1, 0.2, 0.3]).translated([0.1, 0.0, 0.2])
+        >>> again = ph.Body.from_spatial_inertia(body.spatial_inertia(convention="pinocchio"),
+        ...                                      convention="pinocchio")
+        >>> float(np.abs(again.inertia - body.inertia).max()) < 1e-16  # I_p - m [c][c]^T
+        True
+        >>> bool(np.allclose(again.center_of_mass, [0.1, 0.0, 0.2], rtol=1e-15, atol=0))
+        True
+        """
+        if convention not in SPATIAL_CONVENTIONS:
+            raise ArgumentError(
+                f"Expected `convention` to be one of {', '.join(SPATIAL_CONVENTIONS)}, "
+                f"got {convention!r}.",
+                argument="convention",
+            )
+        s = as_array("matrix", matrix, (6, 6))
+        tolerance = as_scalar("rtol", rtol)
+        if not (math.isfinite(tolerance) and tolerance >= 0):
+            raise ArgumentError(
+                f"Expected `rtol` to be a finite number >= 0, got {tolerance}.", argument="rtol"
+            )
+        p = np.zeros(3) if point is None else as_array("point", point, (3,))
+        if not np.all(np.isfinite(s)):
+            raise NonFiniteError(
+                "Expected `matrix` to be finite, got a NaN or an infinity.", argument="matrix"
+            )
+        if convention == "pinocchio":
+            s = np.block([[s[3:, 3:], s[3:, :3]], [s[:3, 3:], s[:3, :3]]])
+        bound = tolerance * float(np.abs(s).max())
+        asymmetry = float(np.abs(s - s.T).max())
+        if asymmetry > bound:
+            raise InertiaError(
+                f"Expected `matrix` to be symmetric, got |S - S^T| up to {asymmetry:.3g} "
+                f"(tolerance {bound:.3g}).",
+                argument="matrix",
+            )
+        lower = s[3:, 3:]
+        m = float(np.median(np.diag(lower)))  # exact when the three agree
+        if not m > 0:
+            raise NonPositiveError(
+                f"Expected `matrix` to have a positive mass m in its m 1 block, got {m:g}.",
+                argument="matrix",
+            )
+        if float(np.abs(lower - m * np.eye(3)).max()) > bound:
+            raise InertiaError(
+                "Expected the mass block of `matrix` to be m times the identity, got "
+                f"{lower.tolist()}.",
+                argument="matrix",
+            )
+        coupling = (s[:3, 3:] + s[3:, :3].T) / 2
+        if float(np.abs(coupling + coupling.T).max()) > bound:
+            raise InertiaError(
+                "Expected the coupling block of `matrix` to be m [c] (skew-symmetric), got "
+                f"{coupling.tolist()}.",
+                argument="matrix",
+            )
+        c = np.array(
+            [
+                coupling[2, 1] - coupling[1, 2],
+                coupling[0, 2] - coupling[2, 0],
+                coupling[1, 0] - coupling[0, 1],
+            ]
+        ) / (2 * m)
+        cross = _cross_matrix(c)
+        upper = (s[:3, :3] + s[:3, :3].T) / 2
+        about_center = upper - m * cross @ cross.T
+        try:
+            return cls.from_inertia(m, (about_center + about_center.T) / 2, p + c)
+        except InertiaError as error:
+            raise InertiaError(
+                "Expected `matrix` to be the spatial inertia of a body, but the rotational "
+                f"inertia about the centre of mass it implies is not an inertia tensor: "
+                f"{error.message}",
+                argument="matrix",
+            ) from error
 
     # --- moving and combining -------------------------------------------------------------
 

@@ -1,5 +1,5 @@
-"""The ``polhode`` command line: ``polhode demo`` (the default), ``polhode spin`` and
-``polhode bench``."""
+"""The ``polhode`` command line: ``polhode demo`` (the default), ``polhode spin``,
+``polhode audit`` and ``polhode bench``."""
 
 from __future__ import annotations
 
@@ -211,11 +211,62 @@ FIXED_STEP = tuple(name for name, stepping in _core.METHODS.items() if stepping 
 MAX_POINTS = 10_000_000
 
 
+#: ``--body mesh``: the file, exactly one of density and mass, and optionally scale and shell.
+MESH_KEYS = ("path", "density", "mass", "scale", "shell")
+
+
+def _mesh(pairs: list[str]) -> ph.Body:
+    """A body from a mesh file: ``mesh path=FILE density=D`` (or ``mass=M``), optionally
+    ``scale=S`` and ``shell=true``."""
+    takes = "mesh takes path=FILE and density=NUMBER or mass=NUMBER, optionally scale=NUMBER "
+    takes += "and shell=true"
+    values: dict[str, str] = {}
+    for pair in pairs:
+        name, equals, value = pair.partition("=")
+        if not equals:
+            raise UsageError("--body", f"expected NAME=VALUE, got {pair!r}; {takes}.")
+        if name not in MESH_KEYS:
+            raise UsageError("--body", f"unknown key {name!r} for mesh; {takes}.")
+        if name in values:
+            raise UsageError("--body", f"{name} is given twice; {takes}.")
+        values[name] = value
+    if "path" not in values:
+        raise UsageError("--body", f"missing path; {takes}.")
+    if ("density" in values) == ("mass" in values):
+        given = "both" if "density" in values else "neither"
+        raise UsageError("--body", f"give exactly one of density and mass, got {given}; {takes}.")
+    numbers: dict[str, float] = {}
+    for name in ("density", "mass", "scale"):
+        if name in values:
+            try:
+                numbers[name] = float(values[name])
+            except ValueError:
+                raise UsageError(
+                    "--body", f"expected {name}=NUMBER, got {name}={values[name]}; {takes}."
+                ) from None
+    shell = values.get("shell", "false").lower()
+    if shell not in ("true", "false"):
+        raise UsageError("--body", f"expected shell=true or shell=false, got shell={shell}.")
+    try:
+        return ph.Body.from_file(
+            values["path"],
+            density=numbers.get("density"),
+            mass=numbers.get("mass"),
+            scale=numbers.get("scale", 1.0),
+            shell=shell == "true",
+        )
+    except (ph.PolhodeError, OSError, ImportError) as error:
+        raise UsageError("--body", f"mesh: {error}") from None
+
+
 def _solid(words: list[str]) -> ph.Body:
-    """A solid from ``KIND NAME=VALUE ...``, e.g. ``cylinder mass=1 radius=0.1 length=0.5``."""
+    """A solid from ``KIND NAME=VALUE ...``, e.g. ``cylinder mass=1 radius=0.1 length=0.5``,
+    or a mesh file, ``mesh path=part.stl density=2700``."""
     kind, *pairs = words
+    if kind == "mesh":
+        return _mesh(pairs)
     if kind not in SOLIDS:
-        raise UsageError("--body", f"expected one of {', '.join(SOLIDS)}, got {kind!r}.")
+        raise UsageError("--body", f"expected one of {', '.join(SOLIDS)} or mesh, got {kind!r}.")
     expected = SOLIDS[kind]
     takes = f"{kind} takes {', '.join(expected)} (as NAME=NUMBER)"
     values: dict[str, float] = {}
@@ -425,6 +476,33 @@ def _spin_plot(sol: ph.Trajectory, path: str) -> None:
     print(f"plot written to {path}")
 
 
+def _audit(args: argparse.Namespace) -> int:
+    """The audit table of a URDF or MJCF file; 1 if any link has an error, 2 for a bad file."""
+    from polhode.io import audit
+
+    try:
+        findings = audit(args.file, rtol=args.rtol, geometry=args.geometry, density=args.density)
+    except (ph.PolhodeError, OSError, ImportError) as error:
+        print(f"polhode audit: error: {error}", file=sys.stderr)
+        return 2
+    width = max([4] + [len(f.link) for f in findings])
+    print(f"{'link':{width}s}  {'severity':8s}  {'check':19s}  message")
+    for f in findings:
+        print(f"{f.link:{width}s}  {f.severity:8s}  {f.check:19s}  {f.message}")
+    corrected = [f for f in findings if f.corrected and f.severity in ("error", "warning")]
+    shown: set[str] = set()
+    for f in corrected:
+        if f.link in shown:
+            continue
+        shown.add(f.link)
+        print(f"\ncorrected inertial of {f.link} (from its geometry, at its declared mass):")
+        print("\n".join("  " + line for line in (f.corrected or "").splitlines()))
+    counts = {s: sum(1 for f in findings if f.severity == s) for s in ("error", "warning")}
+    links = len({f.link for f in findings})
+    print(f"\n{links} links: {counts['error']} errors, {counts['warning']} warnings")
+    return 1 if counts["error"] else 0
+
+
 def _bench(args: argparse.Namespace) -> int:
     from polhode import bench
 
@@ -500,7 +578,8 @@ def _parser() -> argparse.ArgumentParser:
         metavar="KIND NAME=VALUE",
         help="a solid, e.g. 'cylinder mass=1 radius=0.1 length=0.5' (kinds and keys: "
         + "; ".join(f"{kind} {' '.join(keys)}" for kind, keys in SOLIDS.items())
-        + ")",
+        + "), or a mesh file: 'mesh path=part.stl density=2700' (or mass=M; scale=S, "
+        "shell=true optional; STL, OBJ, PLY, OFF, glTF/GLB)",
     )
     spin.add_argument(
         "--omega",
@@ -535,6 +614,34 @@ def _parser() -> argparse.ArgumentParser:
     spin.add_argument("--csv", help="write t, omega and the quaternion (xyzw) to this file")
     spin.add_argument("--plot", help="write omega and the invariant drift to this image (.png)")
     spin.set_defaults(run=_spin)
+    audit_parser = commands.add_parser(
+        "audit",
+        help="check the declared inertials of a URDF or MJCF file",
+        description="Check every link's declared inertial: errors (non-positive mass, not "
+        "positive semidefinite, triangle inequality broken), warnings (a near-zero principal "
+        "moment, disagreement with the link's own geometry, a centre of mass far from it), "
+        "with a corrected inertial where the geometry gives one. Exit status 1 if any error "
+        "is found, 2 if the file cannot be read, 0 otherwise.",
+    )
+    audit_parser.add_argument("file", help="a URDF (.urdf) or MJCF (MuJoCo .xml) file")
+    audit_parser.add_argument(
+        "--rtol",
+        type=_number("a positive finite tolerance", positive=True),
+        default=0.25,
+        help="relative tolerance of the comparison with the geometry (default 0.25)",
+    )
+    audit_parser.add_argument(
+        "--geometry",
+        choices=("collision", "visual"),
+        default="collision",
+        help="URDF geometry to compare with (default collision)",
+    )
+    audit_parser.add_argument(
+        "--density",
+        type=_number("a positive finite density", positive=True),
+        help="density for the corrected inertial of a link whose mass is unusable",
+    )
+    audit_parser.set_defaults(run=_audit)
     bench_parser = commands.add_parser(
         "bench",
         help="speed against error, polhode against scipy, MuJoCo, numpy and trimesh",

@@ -27,6 +27,7 @@ __all__ = [
     "ArgumentError",
     "CancelledError",
     "ConvergenceError",
+    "FileFormatError",
     "InertiaError",
     "NonFiniteError",
     "NonPositiveError",
@@ -105,3 +106,67 @@ class CancelledError(BaseException):
     it, while schedulers that stop on KeyboardInterrupt (dask.distributed's workers) treat it
     as the failure of one task.
     """
+
+
+class FileFormatError(PolhodeError):
+    """A file that cannot be read as what it claims to be: not a mesh, a mesh that is open or
+    of zero volume, a robot description with a missing or malformed field, a link whose
+    declared inertia is not one.
+
+    Besides ``argument`` (``"path"``) it carries ``path`` (the file), ``link`` (the link or
+    body at fault, or None) and ``field`` (the attribute or element at fault, e.g.
+    ``"inertia"``, ``"mass"``, ``"origin.rpy"``, or None). The message names all three.
+
+    Examples
+    --------
+    >>> from polhode.errors import FileFormatError
+    >>> error = FileFormatError("robot.urdf: link 'arm': <mass value>: expected a number, "
+    ...                         "got 'heavy'.", path="robot.urdf", link="arm", field="mass")
+    >>> (error.path, error.link, error.field, error.argument)
+    ('robot.urdf', 'arm', 'mass', 'path')
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        argument: str | None = "path",
+        body: int | None = None,
+        path: str | None = None,
+        link: str | None = None,
+        field: str | None = None,
+    ):
+        super().__init__(message, argument=argument, body=body)
+        self.path = path
+        self.link = link
+        self.field = field
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (
+            _rebuild_file_error,
+            (self.message, self.argument, self.body, self.path, self.link, self.field),
+        )
+
+    def for_body(self, body: int | None) -> FileFormatError:
+        """The same error, about body ``body``."""
+        return FileFormatError(
+            self.message,
+            argument=self.argument,
+            body=body,
+            path=self.path,
+            link=self.link,
+            field=self.field,
+        )
+
+
+def _rebuild_file_error(
+    message: str,
+    argument: str | None,
+    body: int | None,
+    path: str | None,
+    link: str | None,
+    field: str | None,
+) -> FileFormatError:
+    return FileFormatError(
+        message, argument=argument, body=body, path=path, link=link, field=field
+    )
