@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display
 from polhode._coerce import as_float_array as _as_float_array
 from polhode.bodies import Body
 from polhode.errors import ShapeError
@@ -18,7 +18,7 @@ from polhode.simulation import _body as _simulation_body
 __all__ = ["Analysis", "analyze"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Analysis:
     """What can be said of a torque-free motion without integrating it.
 
@@ -69,6 +69,30 @@ class Analysis:
     precession_rate: float | None
     axis_stability: tuple[str, str, str]
     linearized: dict[str, Any] = field(default_factory=dict)
+
+    def _summary(self) -> list[tuple[str, str]]:
+        linearized = ", ".join(
+            f"{k}={v!r}" if isinstance(v, str) else f"{k}={_display.number(v)}"
+            for k, v in self.linearized.items()
+        )
+        return [
+            ("regime", repr(self.regime)),
+            ("moments", _display.vector(self.moments)),
+            ("omega", _display.vector(self.omega)),
+            ("energy", _display.number(self.energy)),
+            ("angular_momentum_norm", _display.number(self.angular_momentum_norm)),
+            ("period", _display.number(self.period)),
+            ("flip_interval", _display.number(self.flip_interval)),
+            ("precession_rate", _display.number(self.precession_rate)),
+            ("axis_stability", repr(tuple(self.axis_stability))),
+            ("linearized", "{" + linearized + "}"),
+        ]
+
+    def __repr__(self) -> str:
+        return "Analysis(" + ", ".join(f"{k}={v}" for k, v in self._summary()) + ")"
+
+    def _repr_html_(self) -> str:
+        return _display.html_table("Analysis", self._summary())
 
 
 #: The regime of a motion about the axis of the smallest or the largest moment, by axis index.

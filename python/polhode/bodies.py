@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display, _shapes
 from polhode._coerce import as_array, as_rotation_matrix, as_scalar
 from polhode.errors import ShapeError
 from polhode.principal_axes import Principal
@@ -97,15 +97,17 @@ class Body:
     True
     """
 
-    __slots__ = ("_core",)
+    __slots__ = ("_core", "_shape")
 
-    def __init__(self, core: _core.MassProperties) -> None:
+    def __init__(self, core: _core.MassProperties, shape: _shapes.Shape | None = None) -> None:
         if not isinstance(core, _core.MassProperties):
             raise TypeError(
                 "Body is built with a constructor such as Body.sphere or Body.point_masses, "
                 f"not from {type(core).__name__}."
             )
         self._core = core
+        # What it looks like (polhode._shapes), for drawing only; None: no geometry given.
+        self._shape = shape
 
     # --- constructors ---------------------------------------------------------------------
 
@@ -427,26 +429,31 @@ class Body:
 
     def translated(self, offset: Any) -> Body:
         """The same body moved by ``offset`` (body coordinates)."""
-        return Body(self._core.translated(as_array("offset", offset, (3,))))
+        d = as_array("offset", offset, (3,))
+        return Body(self._core.translated(d), _shapes.moved(self._shape, np.eye(3), d))
 
     def rotated(self, rotation: Any) -> Body:
         """The same body rotated about the origin of body coordinates (``x_new = R x``).
 
         ``rotation`` is a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) quaternion.
         """
-        return Body(self._core.rotated(as_rotation_matrix("rotation", rotation)))
+        r = as_rotation_matrix("rotation", rotation)
+        return Body(self._core.rotated(r), _shapes.moved(self._shape, r, np.zeros(3)))
 
     def scaled(self, mass_scale: float = 1.0, length_scale: float = 1.0) -> Body:
         """The same body with masses times ``mass_scale`` and lengths times ``length_scale``."""
+        s = as_scalar("length_scale", length_scale)
         return Body(
-            self._core.scaled(
-                as_scalar("mass_scale", mass_scale), as_scalar("length_scale", length_scale)
-            )
+            self._core.scaled(as_scalar("mass_scale", mass_scale), s),
+            _shapes.moved(self._shape, s * np.eye(3), np.zeros(3)),
         )
 
     def __add__(self, other: object) -> Body:
         if isinstance(other, Body):
-            return Body(self._core.combined(other._core))
+            core = self._core.combined(other._core)
+            if self._shape is None and other._shape is None:
+                return Body(core)
+            return Body(core, _shapes.of(self) + _shapes.of(other))
         return NotImplemented
 
     def __radd__(self, other: object) -> Body:
@@ -456,6 +463,27 @@ class Body:
         return NotImplemented
 
     def __repr__(self) -> str:
-        com = np.array2string(self.center_of_mass, precision=6)
-        moments = np.array2string(self.principal().moments, precision=6)
-        return f"Body(mass={self.mass:.6g}, center_of_mass={com}, principal_moments={moments})"
+        return (
+            f"Body(mass={_display.number(self.mass)}, "
+            f"center_of_mass={_display.vector(self.center_of_mass)}, "
+            f"principal_moments={_display.vector(self.principal().moments)})"
+        )
+
+    def _repr_html_(self) -> str:
+        p = self.principal()
+        return _display.html_table(
+            "Body",
+            [
+                ("mass", _display.number(self.mass)),
+                ("center of mass", _display.vector(self.center_of_mass)),
+                ("inertia (about the centre of mass)", _display.html_matrix(self.inertia)),
+                ("principal moments", _display.vector(p.moments)),
+                ("multiplicity", _display.vector(p.multiplicity)),
+                ("principal axes (columns)", _display.html_matrix(p.axes)),
+            ],
+        )
+
+
+# The solids, meshes and point masses remember their shape, for drawing (polhode._shapes).
+for _kind in (*_shapes.SOLIDS, "mesh", "point_masses"):
+    setattr(Body, _kind, classmethod(_shapes.recording(_kind, getattr(Body, _kind).__func__)))

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display
 from polhode._coerce import as_float_array, as_scalar
 
 if TYPE_CHECKING:
@@ -59,10 +59,35 @@ class Principal:
         return iter((self.moments, self.axes))
 
     def __repr__(self) -> str:
+        if np.ndim(self.moments) == 1:
+            return (
+                f"Principal(moments={_display.vector(self.moments)}, "
+                f"multiplicity={_display.vector(self.multiplicity)}, "
+                f"axes={_display.vector(self.axes)})"
+            )
         return (
-            f"Principal(moments={self.moments!r}, axes={self.axes!r}, "
-            f"multiplicity={self.multiplicity!r})"
+            f"Principal({self._batch()} tensors: moments {_display.shape(self.moments)}, "
+            f"axes {_display.shape(self.axes)}, multiplicity {_display.shape(self.multiplicity)})"
         )
+
+    def _batch(self) -> str:
+        return " x ".join(str(d) for d in np.shape(self.moments)[:-1])
+
+    def _repr_html_(self) -> str:
+        if np.ndim(self.moments) == 1:
+            rows = [
+                ("moments (ascending)", _display.vector(self.moments)),
+                ("multiplicity", _display.vector(self.multiplicity)),
+                ("axes (columns)", _display.html_matrix(self.axes)),
+            ]
+        else:
+            rows = [
+                ("tensors", self._batch()),
+                ("moments (ascending)", _display.shape(self.moments)),
+                ("axes (columns)", _display.shape(self.axes)),
+                ("multiplicity", _display.shape(self.multiplicity)),
+            ]
+        return _display.html_table("Principal", rows)
 
 
 def principal(inertia: Any, rtol: float | None = None) -> Principal:

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
 from polhode.bodies import Body
@@ -26,7 +26,7 @@ __all__ = ["Trajectory", "simulate"]
 METHODS = ("auto", "exact", "splitting", "midpoint", "rk4", "dop853")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Trajectory:
     """The motion at the requested times.
 
@@ -72,6 +72,46 @@ class Trajectory:
         if self.quaternion.ndim == 2:
             return Rotation.from_quat(self.quaternion)
         return [Rotation.from_quat(q) for q in self.quaternion]
+
+    def _summary(self) -> list[tuple[str, str]]:
+        """(name, value) pairs of the short summary: sizes and settings, never whole arrays."""
+        single = np.ndim(self.omega) == 2
+        bodies = 1 if single else int(np.shape(self.omega)[0])
+        times = (
+            f"{self.t.size} in [{_display.number(self.t[0])}, {_display.number(self.t[-1])}]"
+            if self.t.size
+            else "0"
+        )
+        steps = self.stats.get("steps")
+        rows = [
+            ("bodies", str(bodies)),
+            ("times", times),
+            ("method", repr(self.stats.get("method"))),
+            (
+                "moments",
+                _display.vector(self.moments) if single else _display.shape(self.moments),
+            ),
+            ("orientation", "yes" if self.quaternion is not None else "no"),
+        ]
+        if single and self.t.size:
+            rows.append(("energy_t0", _display.number(self.energy[0])))
+        if steps is not None:
+            rows.append(("steps", _display.number(int(np.sum(steps)))))
+        if "wall_time" in self.stats:
+            rows.append(("wall_time", f"{_display.number(self.stats['wall_time'])} s"))
+        return rows
+
+    def __repr__(self) -> str:
+        return "Trajectory(" + ", ".join(f"{k}={v}" for k, v in self._summary()) + ")"
+
+    def _repr_html_(self) -> str:
+        rows = self._summary()
+        for name in OUTPUTS:
+            if name == "moments":
+                continue  # in the summary
+            value = getattr(self, name)
+            rows.append((name, "None" if value is None else _display.shape(value)))
+        return _display.html_table("Trajectory", rows)
 
 
 #: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
