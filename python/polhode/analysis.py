@@ -31,7 +31,7 @@ class Analysis:
     energy : float
         Kinetic energy T.
     angular_momentum_norm : float
-        |L|.
+        ``|L|``.
     regime : str
         ``"rest"``; ``"spherical"``; ``"symmetric"`` (two equal moments);
         ``"about_smallest_axis"`` or ``"about_largest_axis"`` (L circulates in the body about
@@ -40,7 +40,7 @@ class Analysis:
         taking forever); ``"steady_intermediate"`` (rotation about the intermediate axis,
         unstable).
     period : float or None
-        Period of the angular velocity in the body, 4 K(m) / lambda (2 pi / |Omega| for a
+        Period of the angular velocity in the body, 4 K(m) / lambda (2 pi / ``|Omega|`` for a
         symmetric top); None when the motion is not periodic.
     flip_interval : float or None
         Time between successive sign changes of the intermediate component (the tennis-racket
@@ -57,6 +57,16 @@ class Analysis:
         the other two moments Ia, Ib, Omega_a = w (I - Ib)/Ia and Omega_b = w (I - Ia)/Ib;
         oscillation at sqrt(Omega_a Omega_b) when they share a sign, exponential growth at
         sqrt(-Omega_a Omega_b) otherwise.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
+    Analysis(regime='about_largest_axis', moments=[1, 2, 3], omega=[0.01, 1, 0.01],
+             energy=1.0002, angular_momentum_norm=2.00025, period=39.1057,
+             flip_interval=19.5529, precession_rate=None,
+             axis_stability=('stable', 'unstable', 'stable'),
+             linearized={axis=1, kind='growth', rate=0.57735})
     """
 
     moments: NDArray[np.float64]
@@ -123,6 +133,28 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
 
     ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes. Moments
     within ``rtol`` (the principal-axes tolerance) count as equal.
+
+    Returns
+    -------
+    Analysis
+
+    Examples
+    --------
+    Spun about the intermediate axis of I = (1, 2, 3), the body flips; the perturbation grows
+    at the rate sqrt(1/3) = 0.57735 (Omega_a = (I2 - I3)/I1 = -1, Omega_b = (I2 - I1)/I3 = 1/3):
+
+    >>> import polhode as ph
+    >>> a = ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
+    >>> a.regime, a.axis_stability
+    ('about_largest_axis', ('stable', 'unstable', 'stable'))
+    >>> round(a.flip_interval, 4), a.linearized["kind"], round(a.linearized["rate"], 5)
+    (19.5529, 'growth', 0.57735)
+
+    A symmetric top precesses at Omega = w_s (I_s - I_t) / I_t:
+
+    >>> top = ph.analyze([1.0, 1.0, 2.0], [0.1, 0.0, 1.0])
+    >>> top.regime, top.precession_rate
+    ('symmetric', 1.0)
     """
     omega_body = _as_float_array("omega0", omega0)
     if omega_body.shape != (3,):

@@ -61,7 +61,20 @@ def _single(traj: Trajectory, what: str) -> None:
 
 
 def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
-    """The three body-axis components of the angular velocity against time."""
+    """The three body-axis components of the angular velocity against time.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], np.linspace(0.0, 50.0, 501))
+    >>> ax = ph.plot.omega(sol)
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['omega1', 'omega2', 'omega3']
+    >>> bool(np.array_equal(ax.get_lines()[1].get_ydata(), sol.omega[:, 1]))
+    True
+    >>> ax.figure.savefig("omega.png")  # doctest: +SKIP
+    """
     _single(traj, "omega")
     ax = _new_axes() if ax is None else ax
     for k in range(3):
@@ -86,8 +99,16 @@ def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axe
     """Relative drift of the invariants against time on a log axis
     (:func:`polhode.invariants.relative_drift`).
 
-    Curves (in this order): T, |L| in body axes, L in space (if the trajectory has an
+    Curves (in this order): T, ``|L|`` in body axes, L in space (if the trajectory has an
     orientation); values below ``floor`` (exact zeros) are drawn at the floor, shown dashed.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 100.0, method="rk4", dt=0.1)
+    >>> ax = ph.plot.drift(sol)
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['drift:energy', 'drift:|L| body', 'drift:L space', 'floor']
     """
     _single(traj, "drift")
     errors = relative_drift(traj)
@@ -124,7 +145,7 @@ def _default_energies(moments: NDArray[np.float64], l2: float) -> list[float]:
 def polhode_curves(
     moments: Sequence[float], angular_momentum_norm: float, energy: float, n: int = 400
 ) -> list[NDArray[np.float64]]:
-    """The closed curve(s) where the sphere |L| = const meets the ellipsoid sum L_i^2/I_i = 2T.
+    """The closed curve(s) where the sphere ``|L|`` = const meets the ellipsoid sum L_i^2/I_i = 2T.
 
     Returns one (n, 3) array per branch (body principal axes, moments ascending): two branches,
     one around +axis and one around -axis (the smallest axis, 0, if 2T > L^2/I2; the largest, 2,
@@ -181,12 +202,12 @@ def polhode(
     sphere: bool = True,
     n: int = 400,
 ) -> Axes:
-    """The polhode: the body angular momentum on the sphere |L| = const (3D axes).
+    """The polhode: the body angular momentum on the sphere ``|L|`` = const (3D axes).
 
     Parameters
     ----------
     moments : (3,) principal moments, ascending; default ``traj.moments``.
-    angular_momentum_norm : |L|; default |L| of ``traj`` at t[0], else 1.
+    angular_momentum_norm : ``|L|``; default ``|L|`` of ``traj`` at t[0], else 1.
     energies : kinetic energies T, one closed curve pair (both branches) each; default eight
         levels on both sides of the separatrix.
     ax : a 3D Axes (``projection="3d"``) or None for a new figure.
@@ -196,6 +217,18 @@ def polhode(
     n : points per curve.
 
     The separatrices (2T = L^2/I2) are drawn in black, the energy levels in colour.
+
+    Examples
+    --------
+    Every curve lies on the sphere ``|L| = 1``:
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> ax = ph.plot.polhode([1.0, 2.0, 3.0])
+    >>> curves = [np.array(line.get_data_3d()) for line in ax.get_lines()
+    ...           if line.get_gid().startswith("polhode")]
+    >>> len(curves), bool(all(np.allclose(np.linalg.norm(c, axis=0), 1.0) for c in curves))
+    (16, True)
     """
     if traj is not None:
         _single(traj, "polhode")
@@ -261,7 +294,7 @@ def polhode(
 def invariable_plane_basis(
     angular_momentum: Sequence[float], hint: Sequence[float] | None = None
 ) -> NDArray[np.float64]:
-    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/|L|; e1 along the part of
+    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/``|L|``; e1 along the part of
     ``hint`` perpendicular to n when that is not zero."""
     n = np.asarray(angular_momentum, dtype=np.float64)
     n = n / np.linalg.norm(n)
@@ -291,7 +324,16 @@ def herpolhode(traj: Trajectory, ax: Axes | None = None) -> Axes:
     """The herpolhode: the tip of omega in space, in the invariable plane (perpendicular to L).
 
     Coordinates are along e1, e2 of :func:`invariable_plane_basis` for L(t0), with e1 along the
-    initial omega's part in the plane; the component along L, 2T/|L|, is constant and dropped.
+    initial omega's part in the plane; the component along L, 2T/``|L|``, is constant and dropped.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.3, 1.0, 0.2], np.linspace(0.0, 20.0, 401))
+    >>> ax = ph.plot.herpolhode(sol)
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['herpolhode', 'L axis', 'start']
     """
     w = omega_space(traj)
     space = angular_momentum_space(traj)
@@ -316,7 +358,18 @@ def work_precision(
     results: Mapping[str, tuple[Any, Any]], ax: Axes | None = None, floor: float = FLOOR
 ) -> Axes:
     """Error against (wall) time on log-log axes, one series per name: ``{name: (times,
-    errors)}``. Errors below ``floor`` are drawn at the floor."""
+    errors)}``. Errors below ``floor`` are drawn at the floor.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> ax = ph.plot.work_precision({"rk4": ([1e-4, 4e-4], [1e-6, 4e-9]),
+    ...                              "exact": ([9e-5], [0.0])})
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['work_precision:rk4', 'work_precision:exact']
+    >>> ax.get_lines()[1].get_ydata().tolist()  # an exact zero, drawn at the floor
+    [1e-17]
+    """
     ax = _new_axes() if ax is None else ax
     for name, (times, errors) in results.items():
         x = np.asarray(times, dtype=np.float64)
@@ -413,6 +466,18 @@ def perturbation_error(
     of :func:`polhode.perturbation` against the exact solution over the times ``t`` (see
     :func:`perturbation_errors`), with a dashed reference line eps^(n+1) starting
     ``SLOPE_OFFSET`` below its smallest-eps point. Errors below ``floor`` are drawn at the floor.
+
+    Examples
+    --------
+    Near the axis of the smallest moment, the first order's error falls like eps^2:
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> ax = ph.plot.perturbation_error([1.0, 2.0, 3.0], axis=0, eps=[1e-3, 1e-2])
+    >>> first = next(line for line in ax.get_lines() if line.get_gid() == "perturbation_error:1")
+    >>> errors = first.get_ydata()
+    >>> round(float(np.log10(errors[1] / errors[0])), 2)  # over one decade of eps
+    2.0
     """
     epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else np.asarray(eps, dtype=np.float64)
     errors = perturbation_errors(moments, axis, epsilons, orders, t, spin=spin, direction=direction)

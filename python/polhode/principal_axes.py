@@ -34,6 +34,21 @@ class Principal:
         How many moments (itself included) equal each one within the tolerance: 1 1 1 for an
         asymmetric body, 2 2 1 or 1 2 2 for a symmetric one, 3 3 3 for a spherical one. Equal
         moments are returned exactly equal, with the canonical axes closest to the body's own.
+
+    Examples
+    --------
+    A cylinder (m = 2, r = 0.1, L = 0.5) along z: m r^2 / 2 about its axis, m (3 r^2 + L^2) / 12
+    across it.
+
+    >>> import polhode as ph
+    >>> p = ph.Body.cylinder(2.0, 0.1, 0.5).principal()
+    >>> [round(float(m), 12) for m in p.moments]
+    [0.01, 0.046666666667, 0.046666666667]
+    >>> p.multiplicity.tolist()
+    [1, 2, 2]
+    >>> moments, axes = p
+    >>> axes[:, 0].tolist()  # the symmetry axis
+    [0.0, 0.0, 1.0]
     """
 
     __slots__ = ("axes", "moments", "multiplicity")
@@ -111,6 +126,24 @@ def principal(inertia: Any, rtol: float | None = None) -> Principal:
     -------
     Principal
         ``moments`` (3,) or (N, 3), ``axes`` (3, 3) or (N, 3, 3), ``multiplicity``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> p = ph.principal([[2.0, -1.0, 0.0], [-1.0, 2.0, 0.0], [0.0, 0.0, 3.0]])
+    >>> p.moments.tolist(), p.multiplicity.tolist()
+    ([1.0, 3.0, 3.0], [1, 2, 2])
+    >>> bool(np.allclose(p.axes[:, 0], [2**-0.5, 2**-0.5, 0.0], rtol=0, atol=1e-15))
+    True
+
+    A batch of N tensors gives N of each:
+
+    >>> batch = ph.principal(np.stack([np.diag([3.0, 1.0, 2.0]), np.diag([1.0, 1.0, 2.0])]))
+    >>> batch.moments.tolist(), batch.multiplicity.tolist()
+    ([[1.0, 2.0, 3.0], [1.0, 1.0, 2.0]], [[1, 1, 1], [2, 2, 1]])
+    >>> batch
+    Principal(2 tensors: moments (2, 3), axes (2, 3, 3), multiplicity (2, 3))
     """
     array = as_float_array("inertia", inertia)
     tolerance = None if rtol is None else as_scalar("rtol", rtol)

@@ -51,6 +51,25 @@ class Trajectory:
         The principal moments the motion was integrated with (about the pivot for a heavy top).
     stats : dict
         ``steps``, ``rejected_steps``, ``evaluations`` (per body), ``wall_time`` (s), ``method``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], np.linspace(0.0, 100.0, 201))
+    >>> sol.omega.shape, sol.quaternion.shape, sol.energy.shape
+    ((201, 3), (201, 4), (201,))
+    >>> sol.orientation[-1].apply([0.0, 1.0, 0.0]).shape  # the body's y axis in space at t = 100
+    (3,)
+    >>> print(repr(sol).split(", wall_time")[0])
+    Trajectory(bodies=1, times=201 in [0, 100], method='exact', moments=[1, 2, 3],
+               orientation=yes, energy_t0=1.0002, steps=0
+
+    A batch keeps its leading dimension:
+
+    >>> batch = ph.simulate([1.0, 2.0, 3.0], np.eye(3), [0.0, 1.0], orientation=False)
+    >>> batch.omega.shape, batch.quaternion
+    ((3, 2, 3), None)
     """
 
     t: NDArray[np.float64]
@@ -239,8 +258,8 @@ def simulate(
         of them (default identity).
     method : {"auto", "exact", "splitting", "midpoint", "rk4", "dop853"}
         ``auto`` is ``exact`` (the closed form: no steps, O(1) per output time) without a torque
-        and ``dop853`` with one. ``splitting`` (Lie-Poisson, symplectic; |L| and L in space
-        exact), ``midpoint`` (implicit; T and |L| exact) and ``rk4`` take a fixed ``dt``.
+        and ``dop853`` with one. ``splitting`` (Lie-Poisson, symplectic; ``|L|`` and L in space
+        exact), ``midpoint`` (implicit; T and ``|L|`` exact) and ``rk4`` take a fixed ``dt``.
     dt : float, optional
         Largest step of the fixed-step methods (between output times the steps are equal).
     order : {2, 4, 6}
@@ -266,6 +285,37 @@ def simulate(
     Returns
     -------
     Trajectory
+
+    Examples
+    --------
+    Five tennis-racket flips of I = (1, 2, 3) by the exact solution; the angular velocity at
+    t = 100 agrees with a 30-digit reference (:data:`polhode.bench.REFERENCE`,
+    0.009550413196755434, -1.0000043947942285, 0.009852417507542):
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], [0.0, 100.0])
+    >>> [round(float(w), 12) for w in sol.omega[-1]]
+    [0.009550413197, -1.000004394794, 0.009852417508]
+
+    The same by the order-4 splitting: ``|L|`` and L in space kept to rounding, T to about
+    1e-9:
+
+    >>> from polhode.invariants import max_relative_drift
+    >>> split = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 100.0, method="splitting",
+    ...                     dt=0.01)
+    >>> drift = max_relative_drift(split)
+    >>> bool(drift["angular_momentum_space"] < 1e-14), bool(drift["energy"] < 1e-9)
+    (True, True)
+
+    A body in its own axes, a torque, and a batch of four bodies sharing one Body:
+
+    >>> bar = ph.Body.cuboid(1.0, [0.3, 0.1, 0.02])
+    >>> push = ph.torque.BodyFixed([0.0, 0.0, 0.01])
+    >>> ph.simulate(bar, [0.0, 0.0, 1.0], 2.0, torque=push).stats["method"]
+    'dop853'
+    >>> ph.simulate(bar, np.ones((4, 3)), np.linspace(0.0, 1.0, 11)).omega.shape
+    (4, 11, 3)
     """
     started = time.perf_counter()
     if not isinstance(method, str):
