@@ -113,6 +113,7 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
     "abort_on_example_error": True,
     "show_memory": False,
+    "capture_repr": (),  # print() shows what an example means to show; no stray reprs
 }
 
 # --- HTML ---------------------------------------------------------------------------------------

@@ -97,3 +97,12 @@ def test_guide_code_runs(page, capsys):
     for k, block in enumerate(blocks):
         code = compile(block, f"{page.name}, block {k + 1}", "exec")
         exec(code, namespace)  # noqa: S102  (the guide's own code)
+
+
+def test_every_solid_says_where_its_origin_is():
+    from polhode._shapes import SOLIDS
+
+    for name in SOLIDS:
+        doc = inspect.getdoc(getattr(polhode.Body, name)) or ""
+        assert "origin" in doc, name
+        assert "height" not in doc, name  # one word along an axis: length

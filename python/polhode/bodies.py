@@ -186,14 +186,14 @@ class Body:
 
     @classmethod
     def sphere(cls, mass: float, radius: float) -> Body:
-        """A solid sphere: I = 2/5 m r^2."""
+        """A solid sphere centred on the origin: I = 2/5 m r^2."""
         return cls(
             _core.MassProperties.sphere(as_scalar("mass", mass), as_scalar("radius", radius))
         )
 
     @classmethod
     def spherical_shell(cls, mass: float, radius: float) -> Body:
-        """A thin spherical shell: I = 2/3 m r^2."""
+        """A thin spherical shell centred on the origin: I = 2/3 m r^2."""
         return cls(
             _core.MassProperties.spherical_shell(
                 as_scalar("mass", mass), as_scalar("radius", radius)
@@ -202,14 +202,16 @@ class Body:
 
     @classmethod
     def cuboid(cls, mass: float, size: Any) -> Body:
-        """A solid cuboid (a box) with full edge lengths ``size`` = (a, b, c) along x, y, z."""
+        """A solid cuboid (a box) centred on the origin, with full edge lengths ``size`` =
+        (a, b, c) along x, y, z: I_x = m (b^2 + c^2)/12."""
         return cls(
             _core.MassProperties.cuboid(as_scalar("mass", mass), as_array("size", size, (3,)))
         )
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, length: float) -> Body:
-        """A solid cylinder along z: I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
+        """A solid cylinder along z, centred on the origin (its faces at z = -+length/2):
+        I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
         return cls(
             _core.MassProperties.cylinder(
                 as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
@@ -218,7 +220,7 @@ class Body:
 
     @classmethod
     def tube(cls, mass: float, inner_radius: float, outer_radius: float, length: float) -> Body:
-        """A thick-walled tube along z: I_z = m (r1^2 + r2^2)/2."""
+        """A thick-walled tube along z, centred on the origin: I_z = m (r1^2 + r2^2)/2."""
         return cls(
             _core.MassProperties.tube(
                 as_scalar("mass", mass),
@@ -230,8 +232,10 @@ class Body:
 
     @classmethod
     def cone(cls, mass: float, radius: float, length: float) -> Body:
-        """A solid cone along z: base disc in the plane z = 0, apex at z = length (centre of
-        mass at length/4)."""
+        """A solid cone along z whose origin is the centre of its base: base disc in the plane
+        z = 0, apex at z = length, centre of mass at z = length/4 (the one solid not centred on
+        the origin, so that a top's pivot, its apex, is at (0, 0, length)):
+        I_z = 3/10 m r^2, I_x = 3/20 m r^2 + 3/80 m L^2 about the centre of mass."""
         return cls(
             _core.MassProperties.cone(
                 as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)
@@ -240,7 +244,8 @@ class Body:
 
     @classmethod
     def ellipsoid(cls, mass: float, semi_axes: Any) -> Body:
-        """A solid ellipsoid with semi-axes (a, b, c): I_x = m (b^2 + c^2)/5."""
+        """A solid ellipsoid centred on the origin, with semi-axes (a, b, c) along x, y, z:
+        I_x = m (b^2 + c^2)/5."""
         return cls(
             _core.MassProperties.ellipsoid(
                 as_scalar("mass", mass), as_array("semi_axes", semi_axes, (3,))
@@ -249,17 +254,19 @@ class Body:
 
     @classmethod
     def rod(cls, mass: float, length: float) -> Body:
-        """A thin rod along z: I_x = I_y = m L^2/12, I_z = 0."""
+        """A thin rod along z, centred on the origin: I_x = I_y = m L^2/12, I_z = 0."""
         return cls(_core.MassProperties.rod(as_scalar("mass", mass), as_scalar("length", length)))
 
     @classmethod
     def disk(cls, mass: float, radius: float) -> Body:
-        """A thin disc in the xy plane: I_z = m r^2/2, I_x = I_y = m r^2/4."""
+        """A thin disc in the xy plane, centred on the origin: I_z = m r^2/2,
+        I_x = I_y = m r^2/4."""
         return cls(_core.MassProperties.disk(as_scalar("mass", mass), as_scalar("radius", radius)))
 
     @classmethod
     def torus(cls, mass: float, major_radius: float, minor_radius: float) -> Body:
-        """A solid torus about z: I_z = m (R^2 + 3 a^2/4), I_x = m (R^2/2 + 5 a^2/8)."""
+        """A solid torus about z, centred on the origin: I_z = m (R^2 + 3 a^2/4),
+        I_x = m (R^2/2 + 5 a^2/8)."""
         return cls(
             _core.MassProperties.torus(
                 as_scalar("mass", mass),
@@ -270,7 +277,8 @@ class Body:
 
     @classmethod
     def capsule(cls, mass: float, radius: float, length: float) -> Body:
-        """A cylinder of ``length`` along z capped by two hemispheres of ``radius``."""
+        """A cylinder of ``length`` along z capped by two hemispheres of ``radius``, centred on
+        the origin (total length ``length + 2 radius``)."""
         return cls(
             _core.MassProperties.capsule(
                 as_scalar("mass", mass), as_scalar("radius", radius), as_scalar("length", length)

@@ -570,7 +570,8 @@ def analyze(
 
     Examples
     --------
-    The flip interval goes as 1/|omega|: spun k times faster, the body flips k times as often.
+    The flip interval goes as ``1/|omega|``: spun k times faster, the body flips k times as
+    often.
 
     >>> import dask.array as da
     >>> import numpy as np
