@@ -130,3 +130,14 @@ html_static_path: list[str] = []
 html_show_sourcelink = False
 
 sys.dont_write_bytecode = True
+
+
+def _hide_internal_constructor(app, what, name, obj, options, signature, return_annotation):
+    """``Body(core, shape)`` is built by its constructors (``Body.sphere``...), not called."""
+    if what == "class" and name == "polhode.Body":
+        return "", return_annotation
+    return None
+
+
+def setup(app):
+    app.connect("autodoc-process-signature", _hide_internal_constructor)

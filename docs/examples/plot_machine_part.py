@@ -40,7 +40,8 @@ print(p.axes)
 # %%
 # The largest axis is tilted from the shaft (z): a product of inertia I_xz is not zero.
 tilt = np.degrees(np.arccos(abs(p.axes[2, 2])))
-print(f"I_xz = {crank.inertia[0, 2]:.3e} kg m^2; the largest axis is {tilt:.2f} deg from z")
+print(f"I_xz = {crank.inertia[0, 2]:.3e} kg m^2")
+print(f"the largest axis is {tilt:.2f} deg from z")
 
 # %%
 # The inertia as a simulator reads it: MuJoCo's ``<inertial>`` and URDF's.
@@ -53,4 +54,5 @@ print(crank.to_urdf_inertial())
 t = np.linspace(0.0, 1.0, 241)
 sol = ph.simulate(crank, [0.0, 0.0, 30.0], t)
 fig = plt.figure(figsize=(5, 5), dpi=72, layout="constrained")
-anim = ph.plot.animate(sol, crank, frames=16, interval=120, ax=fig.add_subplot(projection="3d"))
+ax = fig.add_subplot(projection="3d")
+anim = ph.plot.animate(sol, crank, frames=16, interval=120, ax=ax)

@@ -29,12 +29,14 @@ print(p)
 spin = 10.0 * p.axes[:, 1] + 1e-3 * p.axes[:, 0]
 a = ph.analyze(t_handle, spin)
 print(a.regime, a.axis_stability)
-print(f"a flip every {a.flip_interval:.4f} s, growth rate {a.linearized['rate']:.3f} /s")
+print(f"a flip every {a.flip_interval:.4f} s")
+print(f"growth rate {a.linearized['rate']:.3f} /s")
 
 # %%
 # The exact solution, with the body turned so that its angular momentum points up in space.
 # The component of omega along the intermediate axis changes sign at every flip.
-up, _ = Rotation.align_vectors([[0.0, 0.0, 1.0]], [t_handle.angular_momentum_body(spin)])
+momentum = t_handle.angular_momentum_body(spin)
+up, _ = Rotation.align_vectors([[0.0, 0.0, 1.0]], [momentum])
 t = np.linspace(0.0, 4.4 * a.flip_interval, 2001)
 sol = ph.simulate(t_handle, spin, t, orientation0=up)
 along = sol.omega @ p.axes  # omega in principal axes
@@ -52,4 +54,5 @@ ax.legend(loc="lower right")
 # The handle in space: L (dashed) stays fixed; the intermediate axis (green) starts along it and
 # turns over, while omega (black) wanders. The frames are 24 of the 2001 output times.
 fig = plt.figure(figsize=(5, 5), dpi=72, layout="constrained")
-anim = ph.plot.animate(sol, t_handle, frames=24, interval=120, ax=fig.add_subplot(projection="3d"))
+ax = fig.add_subplot(projection="3d")
+anim = ph.plot.animate(sol, t_handle, frames=24, interval=120, ax=ax)
