@@ -173,11 +173,11 @@ def tube(mass, inner_radius, outer_radius, length) -> MassProperties:
     return _diag(mass, (0, 0, 0), ix, ix, mass * s / 2)
 
 
-def cone(mass, radius, height) -> MassProperties:
-    """Solid cone, base in z = 0, apex at z = h: centre of mass at h/4,
-    I_z = 3/10 m r^2, I_x = 3/20 m r^2 + 3/80 m h^2 about the centre of mass."""
-    ix = mass * (3 * radius**2 / 20 + 3 * height**2 / 80)
-    return _diag(mass, (0, 0, height / 4), ix, ix, 0.3 * mass * radius**2)
+def cone(mass, radius, length) -> MassProperties:
+    """Solid cone, base in z = 0, apex at z = L (its length): centre of mass at L/4,
+    I_z = 3/10 m r^2, I_x = 3/20 m r^2 + 3/80 m L^2 about the centre of mass."""
+    ix = mass * (3 * radius**2 / 20 + 3 * length**2 / 80)
+    return _diag(mass, (0, 0, length / 4), ix, ix, 0.3 * mass * radius**2)
 
 
 def ellipsoid(mass, semi_axes) -> MassProperties:
@@ -319,11 +319,11 @@ def quadrature_cloud(shape: str, mass: float, *params, n: int = 6):
         rr, zz = np.meshgrid(rho, z, indexing="ij")
         w, pts = _revolve(rr, zz, np.outer(wr * rho, wz))
     elif shape == "cone":
-        radius, height = params
-        z, wz = _gauss(0.0, height, n)
+        radius, length = params
+        z, wz = _gauss(0.0, length, n)
         s, ws = _gauss(0.0, 1.0, n)
         zz, ss = np.meshgrid(z, s, indexing="ij")
-        scale = radius * (1 - zz / height)  # rho = scale * s, d rho = scale ds
+        scale = radius * (1 - zz / length)  # rho = scale * s, d rho = scale ds
         w, pts = _revolve(scale * ss, zz, np.outer(wz, ws) * scale * scale * ss)
     elif shape == "torus":
         big, a = params

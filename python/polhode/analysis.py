@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_scalar
 from polhode.bodies import Body
@@ -21,7 +21,7 @@ from polhode.simulation import _body as _simulation_body
 __all__ = ["Analysis", "analyze"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Analysis:
     """What can be said of a torque-free motion without integrating it.
 
@@ -34,7 +34,7 @@ class Analysis:
     energy : float
         Kinetic energy T.
     angular_momentum_norm : float
-        |L|.
+        ``|L|``.
     regime : str
         ``"rest"``; ``"spherical"``; ``"symmetric"`` (two equal moments);
         ``"about_smallest_axis"`` or ``"about_largest_axis"`` (L circulates in the body about
@@ -43,7 +43,7 @@ class Analysis:
         taking forever); ``"steady_intermediate"`` (rotation about the intermediate axis,
         unstable).
     period : float or None
-        Period of the angular velocity in the body, 4 K(m) / lambda (2 pi / |Omega| for a
+        Period of the angular velocity in the body, 4 K(m) / lambda (2 pi / ``|Omega|`` for a
         symmetric top); None when the motion is not periodic.
     flip_interval : float or None
         Time between successive sign changes of the intermediate component (the tennis-racket
@@ -75,6 +75,16 @@ class Analysis:
         the other two moments Ia, Ib, Omega_a = w (I - Ib)/Ia and Omega_b = w (I - Ia)/Ib;
         oscillation at sqrt(Omega_a Omega_b) when they share a sign, exponential growth at
         sqrt(-Omega_a Omega_b) otherwise.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
+    Analysis(regime='about_largest_axis', moments=[1, 2, 3], omega=[0.01, 1, 0.01],
+             energy=1.0002, angular_momentum_norm=2.00025, period=39.1057,
+             flip_interval=19.5529, precession_rate=None,
+             axis_stability=('stable', 'unstable', 'stable'),
+             linearized={axis=1, kind='growth', rate=0.57735})
     """
 
     moments: NDArray[np.float64]
@@ -89,6 +99,30 @@ class Analysis:
     nutation_angle: tuple[float, float] | None
     axis_stability: tuple[str, str, str]
     linearized: dict[str, Any] = field(default_factory=dict)
+
+    def _summary(self) -> list[tuple[str, str]]:
+        linearized = ", ".join(
+            f"{k}={v!r}" if isinstance(v, str) else f"{k}={_display.number(v)}"
+            for k, v in self.linearized.items()
+        )
+        return [
+            ("regime", repr(self.regime)),
+            ("moments", _display.vector(self.moments)),
+            ("omega", _display.vector(self.omega)),
+            ("energy", _display.number(self.energy)),
+            ("angular_momentum_norm", _display.number(self.angular_momentum_norm)),
+            ("period", _display.number(self.period)),
+            ("flip_interval", _display.number(self.flip_interval)),
+            ("precession_rate", _display.number(self.precession_rate)),
+            ("axis_stability", repr(tuple(self.axis_stability))),
+            ("linearized", "{" + linearized + "}"),
+        ]
+
+    def __repr__(self) -> str:
+        return "Analysis(" + ", ".join(f"{k}={v}" for k, v in self._summary()) + ")"
+
+    def _repr_html_(self) -> str:
+        return _display.html_table("Analysis", self._summary())
 
 
 def _rate(what: str, value: Fraction | float) -> float:
@@ -164,6 +198,27 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     given as numbers, gaps up to ``rtol`` times the largest moment (the moments are then
     replaced by their mean, in the result and in the analysis). The regime, the period, the
     precession and the axis stability all describe the same moments.
+    Returns
+    -------
+    Analysis
+
+    Examples
+    --------
+    Spun about the intermediate axis of I = (1, 2, 3), the body flips; the perturbation grows
+    at the rate sqrt(1/3) = 0.57735 (Omega_a = (I2 - I3)/I1 = -1, Omega_b = (I2 - I1)/I3 = 1/3):
+
+    >>> import polhode as ph
+    >>> a = ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
+    >>> a.regime, a.axis_stability
+    ('about_largest_axis', ('stable', 'unstable', 'stable'))
+    >>> round(a.flip_interval, 4), a.linearized["kind"], round(a.linearized["rate"], 5)
+    (19.5529, 'growth', 0.57735)
+
+    A symmetric top precesses at Omega = w_s (I_s - I_t) / I_t:
+
+    >>> top = ph.analyze([1.0, 1.0, 2.0], [0.1, 0.0, 1.0])
+    >>> top.regime, top.precession_rate_body_body
+    ('symmetric', 1.0)
     """
     if rtol is not None:
         rtol = as_scalar("rtol", rtol)

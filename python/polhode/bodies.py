@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display, _shapes
 from polhode._coerce import as_array, as_rotation_matrix, as_scalar
 from polhode.errors import (
     ArgumentError,
@@ -113,15 +113,17 @@ class Body:
     True
     """
 
-    __slots__ = ("_core",)
+    __slots__ = ("_core", "_shape")
 
-    def __init__(self, core: _core.MassProperties) -> None:
+    def __init__(self, core: _core.MassProperties, shape: _shapes.Shape | None = None) -> None:
         if not isinstance(core, _core.MassProperties):
             raise TypeError(
                 "Body is built with a constructor such as Body.sphere or Body.point_masses, "
                 f"not from {type(core).__name__}."
             )
         self._core = core
+        # What it looks like (polhode._shapes), for drawing only; None: no geometry given.
+        self._shape = shape
 
     # --- constructors ---------------------------------------------------------------------
 
@@ -234,60 +236,68 @@ class Body:
 
     @classmethod
     def sphere(cls, mass: float, radius: float) -> Body:
-        """A solid sphere: I = 2/5 m r^2."""
+        """A solid sphere centred on the origin: I = 2/5 m r^2."""
         return cls.solid("sphere", mass, radius=radius)
 
     @classmethod
     def spherical_shell(cls, mass: float, radius: float) -> Body:
-        """A thin spherical shell: I = 2/3 m r^2."""
+        """A thin spherical shell centred on the origin: I = 2/3 m r^2."""
         return cls.solid("spherical_shell", mass, radius=radius)
 
     @classmethod
     def cuboid(cls, mass: float, size: Any) -> Body:
-        """A solid cuboid (a box) with full edge lengths ``size`` = (a, b, c) along x, y, z."""
+        """A solid cuboid (a box) centred on the origin, with full edge lengths ``size`` =
+        (a, b, c) along x, y, z: I_x = m (b^2 + c^2)/12."""
         return cls.solid("cuboid", mass, size=size)
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, length: float) -> Body:
-        """A solid cylinder along z: I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
+        """A solid cylinder along z, centred on the origin (its faces at z = -+length/2):
+        I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
         return cls.solid("cylinder", mass, radius=radius, length=length)
 
     @classmethod
     def tube(cls, mass: float, inner_radius: float, outer_radius: float, length: float) -> Body:
-        """A thick-walled tube along z: I_z = m (r1^2 + r2^2)/2."""
+        """A thick-walled tube along z, centred on the origin: I_z = m (r1^2 + r2^2)/2."""
         return cls.solid(
             "tube", mass, inner_radius=inner_radius, outer_radius=outer_radius, length=length
         )
 
     @classmethod
     def cone(cls, mass: float, radius: float, length: float) -> Body:
-        """A solid cone along z: base disc in the plane z = 0, apex at z = length (centre of
-        mass at length/4)."""
+        """A solid cone along z whose origin is the centre of its base: base disc in the plane
+        z = 0, apex at z = length, centre of mass at z = length/4 (the one solid not centred on
+        the origin, so that a top's pivot, its apex, is at (0, 0, length)):
+        I_z = 3/10 m r^2, I_x = 3/20 m r^2 + 3/80 m L^2 about the centre of mass."""
         return cls.solid("cone", mass, radius=radius, length=length)
 
     @classmethod
     def ellipsoid(cls, mass: float, semi_axes: Any) -> Body:
-        """A solid ellipsoid with semi-axes (a, b, c): I_x = m (b^2 + c^2)/5."""
+        """A solid ellipsoid centred on the origin, with semi-axes (a, b, c) along x, y, z:
+        I_x = m (b^2 + c^2)/5."""
         return cls.solid("ellipsoid", mass, semi_axes=semi_axes)
 
     @classmethod
     def rod(cls, mass: float, length: float) -> Body:
-        """A thin rod along z: I_x = I_y = m L^2/12, I_z = 0."""
+        """A thin rod along z, centred on the origin: I_x = I_y = m L^2/12, I_z = 0."""
         return cls.solid("rod", mass, length=length)
 
     @classmethod
     def disk(cls, mass: float, radius: float) -> Body:
-        """A thin disc in the xy plane: I_z = m r^2/2, I_x = I_y = m r^2/4."""
+        """A thin disc in the xy plane, centred on the origin: I_z = m r^2/2,
+        I_x = I_y = m r^2/4."""
         return cls.solid("disk", mass, radius=radius)
 
     @classmethod
     def torus(cls, mass: float, major_radius: float, minor_radius: float) -> Body:
-        """A solid torus about z: I_z = m (R^2 + 3 a^2/4), I_x = m (R^2/2 + 5 a^2/8)."""
+        """A solid torus about z, centred on the origin: I_z = m (R^2 + 3 a^2/4),
+        I_x = m (R^2/2 + 5 a^2/8)."""
         return cls.solid("torus", mass, major_radius=major_radius, minor_radius=minor_radius)
 
     @classmethod
     def capsule(cls, mass: float, radius: float, length: float) -> Body:
-        """A cylinder of ``length`` along z capped by two hemispheres of ``radius``."""
+        """A cylinder of ``length`` along z capped by two hemispheres of ``radius``, centred on
+        the origin (total length ``length + 2 radius``)."""
         return cls.solid("capsule", mass, radius=radius, length=length)
 
     @classmethod
@@ -854,26 +864,31 @@ class Body:
 
     def translated(self, offset: Any) -> Body:
         """The same body moved by ``offset`` (body coordinates)."""
-        return Body(self._core.translated(as_array("offset", offset, (3,))))
+        d = as_array("offset", offset, (3,))
+        return Body(self._core.translated(d), _shapes.moved(self._shape, np.eye(3), d))
 
     def rotated(self, rotation: Any) -> Body:
         """The same body rotated about the origin of body coordinates (``x_new = R x``).
 
         ``rotation`` is a scipy Rotation, a (3, 3) matrix or an (x, y, z, w) quaternion.
         """
-        return Body(self._core.rotated(as_rotation_matrix("rotation", rotation)))
+        r = as_rotation_matrix("rotation", rotation)
+        return Body(self._core.rotated(r), _shapes.moved(self._shape, r, np.zeros(3)))
 
     def scaled(self, mass_scale: float = 1.0, length_scale: float = 1.0) -> Body:
         """The same body with masses times ``mass_scale`` and lengths times ``length_scale``."""
+        s = as_scalar("length_scale", length_scale)
         return Body(
-            self._core.scaled(
-                as_scalar("mass_scale", mass_scale), as_scalar("length_scale", length_scale)
-            )
+            self._core.scaled(as_scalar("mass_scale", mass_scale), s),
+            _shapes.moved(self._shape, s * np.eye(3), np.zeros(3)),
         )
 
     def __add__(self, other: object) -> Body:
         if isinstance(other, Body):
-            return Body(self._core.combined(other._core))
+            core = self._core.combined(other._core)
+            if self._shape is None and other._shape is None:
+                return Body(core)
+            return Body(core, _shapes.of(self) + _shapes.of(other))
         return NotImplemented
 
     def __radd__(self, other: object) -> Body:
@@ -883,6 +898,27 @@ class Body:
         return NotImplemented
 
     def __repr__(self) -> str:
-        com = np.array2string(self.center_of_mass, precision=6)
-        moments = np.array2string(self.principal().moments, precision=6)
-        return f"Body(mass={self.mass:.6g}, center_of_mass={com}, principal_moments={moments})"
+        return (
+            f"Body(mass={_display.number(self.mass)}, "
+            f"center_of_mass={_display.vector(self.center_of_mass)}, "
+            f"principal_moments={_display.vector(self.principal().moments)})"
+        )
+
+    def _repr_html_(self) -> str:
+        p = self.principal()
+        return _display.html_table(
+            "Body",
+            [
+                ("mass", _display.number(self.mass)),
+                ("center of mass", _display.vector(self.center_of_mass)),
+                ("inertia (about the centre of mass)", _display.html_matrix(self.inertia)),
+                ("principal moments", _display.vector(p.moments)),
+                ("multiplicity", _display.vector(p.multiplicity)),
+                ("principal axes (columns)", _display.html_matrix(p.axes)),
+            ],
+        )
+
+
+# The solids, meshes and point masses remember their shape, for drawing (polhode._shapes).
+for _kind in (*_shapes.SOLIDS, "mesh", "point_masses"):
+    setattr(Body, _kind, classmethod(_shapes.recording(_kind, getattr(Body, _kind).__func__)))

@@ -142,6 +142,16 @@ class DaskTrajectory:
         The method used (``"auto"`` resolved).
     records : (N,) dask.array.Array
         The per-body records every array above is a field of (structured dtype).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode.dask as phd
+    >>> sweep = phd.simulate(np.ones((4, 3)) * [1.0, 2.0, 3.0], np.eye(4, 3), [0.0, 1.0])
+    >>> sweep.method, sweep.energy.shape
+    ('exact', (4, 2))
+    >>> sweep.energy[:, 0].compute().tolist()  # T = I w^2 / 2 about each axis, 0 for the last
+    [0.5, 1.0, 1.5, 0.0]
     """
 
     t: NDArray[np.float64]
@@ -200,7 +210,7 @@ class DaskAnalysis:
     moments, omega : (N, 3)
         Principal moments ascending, and the initial angular velocity in those axes.
     energy, angular_momentum_norm : (N,)
-        T and |L|.
+        T and ``|L|``.
     regime : (N,) str
     period, flip_interval, precession_rate_body, precession_rate_space : (N,) float, NaN where
         not defined
@@ -209,6 +219,17 @@ class DaskAnalysis:
     linearized_axis : (N,) int64
     linearized_kind : (N,) str
     linearized_rate : (N,) float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode.dask as phd
+    >>> omega0 = [[1.0, 0.01, 0.01], [0.01, 1.0, 0.01], [0.01, 0.01, 1.0]]
+    >>> result = phd.analyze([1.0, 2.0, 3.0], omega0).compute()
+    >>> result.regime.tolist()
+    ['about_smallest_axis', 'about_largest_axis', 'about_largest_axis']
+    >>> result.linearized_kind.tolist()
+    ['oscillation', 'growth', 'oscillation']
     """
 
     moments: Any
@@ -488,6 +509,21 @@ def simulate(
     Shapes, types, ``t`` and every keyword are checked at once, as are numpy values of
     ``body``, ``omega0`` and ``orientation0``; dask values are checked when their block runs
     (the error's ``body`` is the index in the whole batch).
+
+    Examples
+    --------
+    >>> import dask.array as da
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> import polhode.dask as phd
+    >>> omega0 = da.from_array(np.outer(np.arange(1.0, 7.0), [0.01, 1.0, 0.01]), chunks=3)
+    >>> sweep = phd.simulate([1.0, 2.0, 3.0], omega0, np.linspace(0.0, 10.0, 5))
+    >>> sweep.omega.shape, sweep.omega.chunks[0]
+    ((6, 5, 3), (3, 3))
+    >>> sol = sweep.compute()
+    >>> alone = ph.simulate([1.0, 2.0, 3.0], omega0.compute(), np.linspace(0.0, 10.0, 5))
+    >>> bool(np.array_equal(sol.omega, alone.omega))  # the numbers of one call, bit for bit
+    True
     """
     moments = _as_input("body", body)
     omega0 = _as_input("omega0", omega0)
@@ -613,6 +649,23 @@ def analyze(
     analyzes its bodies one by one
     (Python per body, about 20 us), so spreading the blocks over processes pays off here even on
     one machine. ``chunks`` (bodies per block) as in :func:`simulate`.
+
+    Returns
+    -------
+    DaskAnalysis
+
+    Examples
+    --------
+    The flip interval goes as ``1/|omega|``: spun k times faster, the body flips k times as
+    often.
+
+    >>> import dask.array as da
+    >>> import numpy as np
+    >>> import polhode.dask as phd
+    >>> omega0 = da.from_array(np.outer(np.arange(1.0, 7.0), [0.01, 1.0, 0.01]), chunks=3)
+    >>> flips = phd.analyze([1.0, 2.0, 3.0], omega0).flip_interval.compute()
+    >>> [round(float(f), 4) for f in flips * np.arange(1.0, 7.0)]
+    [19.5529, 19.5529, 19.5529, 19.5529, 19.5529, 19.5529]
     """
     moments = _as_input("body", body)
     omega0 = _as_input("omega0", omega0)

@@ -51,6 +51,19 @@ class PolhodeError(ValueError):
         The argument at fault.
     body : int, optional
         The index of the body at fault in a batch.
+
+    Examples
+    --------
+    Every error about a value is a PolhodeError, and so a ValueError:
+
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.simulate([[1.0, 2.0, 3.0], [1.0, 2.0, 3.0]], [[0, 1, 0], [0, float("inf"), 0]], 1.0)
+    ... except ValueError as error:
+    ...     print(isinstance(error, ph.PolhodeError), error.argument, error.body)
+    ...     print(error)
+    True omega0 1
+    body 1: Expected `omega0` to be finite, got inf.
     """
 
     def __init__(self, message: str, *, argument: str | None = None, body: int | None = None):
@@ -71,29 +84,97 @@ class PolhodeError(ValueError):
 
 
 class ShapeError(PolhodeError):
-    """An array of the wrong shape, or a batch whose sizes disagree."""
+    """An array of the wrong shape, or a batch whose sizes disagree.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.simulate([1.0, 2.0, 3.0], [0.0, 1.0], 1.0)
+    ... except ph.ShapeError as error:
+    ...     print(error.argument, "|", error)
+    omega0 | Expected `omega0` to have shape (3,) or (N, 3), got (2,).
+    """
 
 
 class NonFiniteError(PolhodeError):
-    """A NaN or an infinity where a finite number is needed."""
+    """A NaN or an infinity where a finite number is needed.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.Body.sphere(float("nan"), 1.0)
+    ... except ph.NonFiniteError as error:
+    ...     print(error.argument, "|", error)
+    mass | Expected `mass` to be finite, got NaN.
+    """
 
 
 class NonPositiveError(PolhodeError):
-    """Zero or a negative number where a positive one is needed."""
+    """Zero or a negative number where a positive one is needed.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.Body.sphere(-1.0, 0.1)
+    ... except ph.NonPositiveError as error:
+    ...     print(error.argument, "|", error)
+    mass | Expected `mass` to be positive, got -1.
+    """
 
 
 class InertiaError(PolhodeError):
     """A tensor that is not an inertia tensor (asymmetric, not positive semidefinite, or
-    breaking the triangle inequality I1 + I2 >= I3)."""
+    breaking the triangle inequality I1 + I2 >= I3).
+
+    Examples
+    --------
+    No mass distribution has the moments (1, 1, 3):
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.Body.from_inertia(1.0, np.diag([1.0, 1.0, 3.0]))
+    ... except ph.InertiaError as error:
+    ...     print(error.argument, "|", error)
+    inertia | Expected `inertia` to be a valid inertia tensor: its principal moments 1e0, 1e0,
+    3e0 break the triangle inequality I1 + I2 >= I3.
+
+    The motion itself only needs positive moments (:func:`polhode.simulate` takes them).
+    """
 
 
 class ArgumentError(PolhodeError):
-    """Any other invalid value: an unknown option, an inconsistent combination."""
+    """Any other invalid value: an unknown option, an inconsistent combination.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.simulate([1.0, 2.0, 3.0], [0.0, 1.0, 0.0], 1.0, method="euler")
+    ... except ph.ArgumentError as error:
+    ...     print(error.argument, "|", error)
+    method | Invalid `method`: expected one of "auto", "exact", "splitting", "midpoint", "rk4",
+    "dop853", got "euler".
+    """
 
 
 class ConvergenceError(PolhodeError):
     """An iterative method that did not converge (e.g. the implicit midpoint's Newton
-    iteration on a step too large for the motion)."""
+    iteration on a step too large for the motion).
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> try:
+    ...     ph.simulate([1.0, 2.0, 3.0], [30.0, 40.0, 50.0], 10.0, method="midpoint", dt=0.2)
+    ... except ph.ConvergenceError as error:
+    ...     print(error)
+    implicit midpoint (Newton) did not converge: no convergence in 50 Newton iterations with
+    step 0.2; reduce dt (step from t = 0).
+    """
 
 
 class CancelledError(BaseException):

@@ -26,6 +26,7 @@ if TYPE_CHECKING:
     from polhode.simulation import Trajectory
 
 __all__ = [
+    "animate",
     "dissipation",
     "drift",
     "herpolhode",
@@ -61,7 +62,20 @@ def _single(traj: Trajectory, what: str) -> None:
 
 
 def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
-    """The three body-axis components of the angular velocity against time."""
+    """The three body-axis components of the angular velocity against time.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], np.linspace(0.0, 50.0, 501))
+    >>> ax = ph.plot.omega(sol)
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['omega1', 'omega2', 'omega3']
+    >>> bool(np.array_equal(ax.get_lines()[1].get_ydata(), sol.omega[:, 1]))
+    True
+    >>> ax.figure.savefig("omega.png")  # doctest: +SKIP
+    """
     _single(traj, "omega")
     ax = _new_axes() if ax is None else ax
     for k in range(3):
@@ -86,8 +100,16 @@ def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axe
     """Relative drift of the invariants against time on a log axis
     (:func:`polhode.invariants.relative_drift`).
 
-    Curves (in this order): T, |L| in body axes, L in space (if the trajectory has an
+    Curves (in this order): T, ``|L|`` in body axes, L in space (if the trajectory has an
     orientation); values below ``floor`` (exact zeros) are drawn at the floor, shown dashed.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 100.0, method="rk4", dt=0.1)
+    >>> ax = ph.plot.drift(sol)
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['drift:energy', 'drift:|L| body', 'drift:L space', 'floor']
     """
     _single(traj, "drift")
     errors = relative_drift(traj)
@@ -164,7 +186,7 @@ def _default_energies(moments: NDArray[np.float64], l2: float) -> list[float]:
 def polhode_curves(
     moments: Sequence[float], angular_momentum_norm: float, energy: float, n: int = 400
 ) -> list[NDArray[np.float64]]:
-    """The closed curve(s) where the sphere |L| = const meets the ellipsoid sum L_i^2/I_i = 2T.
+    """The closed curve(s) where the sphere ``|L|`` = const meets the ellipsoid sum L_i^2/I_i = 2T.
 
     Returns one (n, 3) array per branch (body principal axes, moments ascending): two branches,
     one around +axis and one around -axis (the smallest axis, 0, if 2T > L^2/I2; the largest, 2,
@@ -221,12 +243,12 @@ def polhode(
     sphere: bool = True,
     n: int = 400,
 ) -> Axes:
-    """The polhode: the body angular momentum on the sphere |L| = const (3D axes).
+    """The polhode: the body angular momentum on the sphere ``|L|`` = const (3D axes).
 
     Parameters
     ----------
     moments : (3,) principal moments, ascending; default ``traj.moments``.
-    angular_momentum_norm : |L|; default |L| of ``traj`` at t[0], else 1.
+    angular_momentum_norm : ``|L|``; default ``|L|`` of ``traj`` at t[0], else 1.
     energies : kinetic energies T, one closed curve pair (both branches) each; default eight
         levels on both sides of the separatrix.
     ax : a 3D Axes (``projection="3d"``) or None for a new figure.
@@ -236,6 +258,18 @@ def polhode(
     n : points per curve.
 
     The separatrices (2T = L^2/I2) are drawn in black, the energy levels in colour.
+
+    Examples
+    --------
+    Every curve lies on the sphere ``|L| = 1``:
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> ax = ph.plot.polhode([1.0, 2.0, 3.0])
+    >>> curves = [np.array(line.get_data_3d()) for line in ax.get_lines()
+    ...           if line.get_gid().startswith("polhode")]
+    >>> len(curves), bool(all(np.allclose(np.linalg.norm(c, axis=0), 1.0) for c in curves))
+    (16, True)
     """
     if traj is not None:
         _single(traj, "polhode")
@@ -301,7 +335,7 @@ def polhode(
 def invariable_plane_basis(
     angular_momentum: Sequence[float], hint: Sequence[float] | None = None
 ) -> NDArray[np.float64]:
-    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/|L|; e1 along the part of
+    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/``|L|``; e1 along the part of
     ``hint`` perpendicular to n when that is not zero."""
     n = np.asarray(angular_momentum, dtype=np.float64)
     n = n / np.linalg.norm(n)
@@ -331,7 +365,16 @@ def herpolhode(traj: Trajectory, ax: Axes | None = None) -> Axes:
     """The herpolhode: the tip of omega in space, in the invariable plane (perpendicular to L).
 
     Coordinates are along e1, e2 of :func:`invariable_plane_basis` for L(t0), with e1 along the
-    initial omega's part in the plane; the component along L, 2T/|L|, is constant and dropped.
+    initial omega's part in the plane; the component along L, 2T/``|L|``, is constant and dropped.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.3, 1.0, 0.2], np.linspace(0.0, 20.0, 401))
+    >>> ax = ph.plot.herpolhode(sol)
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['herpolhode', 'L axis', 'start']
     """
     w = omega_space(traj)
     space = angular_momentum_space(traj)
@@ -356,7 +399,18 @@ def work_precision(
     results: Mapping[str, tuple[Any, Any]], ax: Axes | None = None, floor: float = FLOOR
 ) -> Axes:
     """Error against (wall) time on log-log axes, one series per name: ``{name: (times,
-    errors)}``. Errors below ``floor`` are drawn at the floor."""
+    errors)}``. Errors below ``floor`` are drawn at the floor.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> ax = ph.plot.work_precision({"rk4": ([1e-4, 4e-4], [1e-6, 4e-9]),
+    ...                              "exact": ([9e-5], [0.0])})
+    >>> [line.get_gid() for line in ax.get_lines()]
+    ['work_precision:rk4', 'work_precision:exact']
+    >>> ax.get_lines()[1].get_ydata().tolist()  # an exact zero, drawn at the floor
+    [1e-17]
+    """
     ax = _new_axes() if ax is None else ax
     for name, (times, errors) in results.items():
         x = np.asarray(times, dtype=np.float64)
@@ -453,6 +507,18 @@ def perturbation_error(
     of :func:`polhode.perturbation` against the exact solution over the times ``t`` (see
     :func:`perturbation_errors`), with a dashed reference line eps^(n+1) starting
     ``SLOPE_OFFSET`` below its smallest-eps point. Errors below ``floor`` are drawn at the floor.
+
+    Examples
+    --------
+    Near the axis of the smallest moment, the first order's error falls like eps^2:
+
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> ax = ph.plot.perturbation_error([1.0, 2.0, 3.0], axis=0, eps=[1e-3, 1e-2])
+    >>> first = next(line for line in ax.get_lines() if line.get_gid() == "perturbation_error:1")
+    >>> errors = first.get_ydata()
+    >>> round(float(np.log10(errors[1] / errors[0])), 2)  # over one decade of eps
+    2.0
     """
     epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else np.asarray(eps, dtype=np.float64)
     errors = perturbation_errors(moments, axis, epsilons, orders, t, spin=spin, direction=direction)
@@ -480,3 +546,239 @@ def perturbation_error(
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     return ax
+
+
+#: Colours of the principal axes 0, 1, 2 (smallest, intermediate, largest) in :func:`animate`.
+AXIS_COLORS = ("tab:red", "tab:green", "tab:blue")
+
+#: Colours of a composite body's parts in :func:`animate`, in the order they were added.
+PART_COLORS = ("#8fa8c8", "#d9a66b", "#9cc28f", "#c98fb8", "#c8c28f", "#8fc8c2")
+
+
+def _frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
+    """Indices into the output times: ``frames`` evenly spaced ones, or those given."""
+    if isinstance(frames, bool) or not (
+        isinstance(frames, int | np.integer) or np.ndim(frames) == 1
+    ):
+        raise TypeError(
+            f"Expected `frames` to be a number of frames or indices, got {type(frames).__name__}."
+        )
+    if np.ndim(frames) == 0:
+        if int(frames) < 1:
+            raise ValueError(f"Expected `frames` to be at least 1, got {frames}.")
+        return np.unique(
+            np.linspace(0, count - 1, min(int(frames), count)).round().astype(np.int64)
+        )
+    indices = np.asarray(frames)
+    if indices.dtype.kind not in "iu" or indices.size == 0:
+        raise ValueError("Expected `frames` to be a non-empty array of output-time indices.")
+    if np.any(indices < -count) or np.any(indices >= count):
+        raise ValueError(f"Expected `frames` to index the {count} output times, got {frames!r}.")
+    return np.asarray(indices % count, dtype=np.int64)
+
+
+def _writer(path: str) -> str:
+    """The matplotlib writer for a file name: pillow for .gif, ffmpeg for .mp4."""
+    from matplotlib import animation
+
+    suffix = path.rsplit(".", 1)[-1].lower() if "." in path else ""
+    if suffix == "gif":
+        return "pillow"
+    if suffix in ("mp4", "m4v", "mov"):
+        if not animation.writers.is_available("ffmpeg"):
+            raise RuntimeError(
+                f"Saving {path!r} needs ffmpeg on the PATH (not found); save a .gif instead "
+                "(pillow), or show it in Jupyter with .to_jshtml()."
+            )
+        return "ffmpeg"
+    raise ValueError(f"Expected `path` to end in .gif or .mp4, got {path!r}.")
+
+
+def animate(
+    traj: Trajectory,
+    body: Any,
+    *,
+    frames: Any = 60,
+    origin: Any = None,
+    ax: Axes | None = None,
+    interval: float = 50.0,
+    resolution: int = 24,
+    path: str | None = None,
+    dpi: float = 80.0,
+    space_axes: bool = False,
+) -> Any:
+    """The body turning in space: its shape, principal axes, omega and L, frame by frame.
+
+    Each frame draws the body at one output time of ``traj``: every point of the body at
+    ``R(t) (x - origin)`` in space axes, where ``R(t)`` is the trajectory's orientation (body
+    to space) and ``origin`` the body point held fixed (the centre of mass of a free body, the
+    pivot of a heavy top). The principal axes are drawn through the centre of mass in red,
+    green and blue (smallest, intermediate, largest moment, ``body.principal()``), from the
+    centre of mass outward, omega in
+    space in black and the angular momentum in space in purple (fixed without a torque), both
+    scaled to their largest value over the frames.
+
+    The shape is the one the body was built from: solids, meshes and point masses (drawn as
+    balls), each part of a composite in its own colour; a body with no geometry
+    (``Body.from_inertia``) is drawn as its equivalent ellipsoid (the uniform solid ellipsoid
+    with the same inertia).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        One body's motion with its orientation, simulated with ``body`` (or in the same axes:
+        ``traj.omega`` and the orientation refer to the body's own axes).
+    body : Body
+        The body whose shape is drawn.
+    frames : int or array_like of int
+        The number of frames, at evenly spaced output times (default 60; at most one per
+        output time), or the indices of the output times to draw.
+    origin : (3,) array_like, optional
+        The body point (body coordinates) drawn fixed at the origin of space; default the
+        centre of mass.
+    ax : a 3D Axes, optional
+        Drawn on if given (``projection="3d"``), else on a new figure.
+    interval : float
+        Milliseconds between frames when shown (the frame rate of a saved file is
+        1000 / interval).
+    resolution : int
+        Segments around a circle of a solid's surface.
+    path : str, optional
+        Save the animation there: ``.gif`` (pillow) or ``.mp4`` (ffmpeg, if on the PATH).
+    dpi : float
+        Resolution of a saved file.
+    space_axes : bool
+        Draw the space axes' ticks, grid and panes (default False: the fixed angular momentum
+        is the reference, and each frame renders about four times faster without them).
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        ``.save(...)`` writes it, ``.to_jshtml()`` shows it in Jupyter (e.g.
+        ``IPython.display.HTML(anim.to_jshtml())``). The line artists carry the gids
+        ``"axis0"``, ``"axis1"``, ``"axis2"``, ``"omega"`` and ``"angular_momentum"``, the
+        surface ``"body"``; ``anim.frame_indices`` holds the output-time index of each frame.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> bar = ph.Body.cuboid(1.0, [0.3, 0.1, 0.02])
+    >>> sol = ph.simulate(bar, [0.0, 5.0, 0.05], np.linspace(0.0, 4.0, 41))
+    >>> anim = ph.plot.animate(sol, bar, frames=10)
+    >>> len(anim.frame_indices)
+    10
+    >>> html = anim.to_jshtml()  # in Jupyter: IPython.display.HTML(html)
+    """
+    from matplotlib.animation import FuncAnimation
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from scipy.spatial.transform import Rotation
+
+    from polhode import _shapes
+    from polhode._coerce import as_array
+    from polhode.bodies import Body
+
+    _single(traj, "animate")
+    if not isinstance(body, Body):
+        raise TypeError(f"Expected `body` to be a polhode.Body, got {type(body).__name__}.")
+    if traj.quaternion is None:
+        raise ValueError("animate needs the orientation: simulate with orientation=True.")
+    indices = _frame_indices(frames, traj.t.size)
+    writer = None if path is None else _writer(path)
+    fixed = body.center_of_mass if origin is None else as_array("origin", origin, (3,))
+    rotations = Rotation.from_quat(traj.quaternion[indices]).as_matrix()
+    axes_body = body.principal().axes
+    omega_space = np.einsum("fij,fj->fi", rotations, traj.omega[indices])
+    momentum = traj.angular_momentum_space
+    l_space = np.zeros_like(omega_space) if momentum is None else momentum[indices]
+
+    shape = _shapes.of(body)
+    parts = [_shapes.surface((p,), resolution) for p in shape]
+    colors = [PART_COLORS[k % len(PART_COLORS)] for k, part in enumerate(parts) for _ in part]
+    polygons = [q - fixed for part in parts for q in part]
+    reach = max(float(np.max(np.linalg.norm(q, axis=1))) for q in polygons)
+    com = body.center_of_mass - fixed
+    size = 1.1 * max(reach, float(np.linalg.norm(com)) + 1e-300)
+    arrow = 0.9 * size
+
+    def scaled(vectors: NDArray[np.float64]) -> NDArray[np.float64]:
+        biggest = float(np.max(np.linalg.norm(vectors, axis=1)))
+        return vectors * (arrow / biggest) if biggest > 0 else vectors
+
+    omega_drawn, l_drawn = scaled(omega_space), scaled(l_space)
+    axis_length = 0.8 * size
+
+    if ax is None:
+        import mpl_toolkits.mplot3d  # noqa: F401  (registers the projection)
+        from matplotlib.figure import Figure
+
+        ax = Figure(figsize=(5.0, 5.0), layout="constrained").add_subplot(projection="3d")
+    figure = ax.figure
+    surface = Poly3DCollection(
+        polygons,
+        facecolors=colors,
+        edgecolors=(0.2, 0.2, 0.2, 0.25),
+        linewidths=0.3,
+        shade=True,
+        gid="body",
+    )
+    ax.add_collection3d(surface)
+    lines = {}
+    for k in range(3):
+        (lines[f"axis{k}"],) = ax.plot(
+            [],
+            [],
+            [],
+            color=AXIS_COLORS[k],
+            linewidth=2.0,
+            gid=f"axis{k}",
+            label=f"{AXIS_ROLES[k]} axis ({k})",
+        )
+    (lines["omega"],) = ax.plot(
+        [], [], [], color="black", linewidth=2.0, gid="omega", label="omega"
+    )
+    (lines["angular_momentum"],) = ax.plot(
+        [],
+        [],
+        [],
+        color="tab:purple",
+        linewidth=2.0,
+        linestyle="--",
+        gid="angular_momentum",
+        label="L",
+    )
+    ax.set_xlim(-size, size)
+    ax.set_ylim(-size, size)
+    ax.set_zlim(-size, size)
+    if space_axes:
+        ax.set_box_aspect((1, 1, 1))
+    else:
+        # The cube of the limits holds the sphere the body turns in: without the axes drawn,
+        # zoom in on that sphere.
+        ax.set_box_aspect((1, 1, 1), zoom=1.5)
+        ax.set_axis_off()
+    ax.legend(loc="upper left", fontsize="small")
+    title = ax.set_title("")
+
+    def segment(name: str, start: NDArray[np.float64], vector: NDArray[np.float64]) -> None:
+        ends = np.stack([start, start + vector])
+        lines[name].set_data_3d(ends[:, 0], ends[:, 1], ends[:, 2])
+
+    def draw(frame: int) -> list[Any]:
+        r = rotations[frame]
+        surface.set_verts([q @ r.T for q in polygons])
+        centre = r @ com
+        for k in range(3):
+            segment(f"axis{k}", centre, axis_length * (r @ axes_body[:, k]))
+        segment("omega", np.zeros(3), omega_drawn[frame])
+        segment("angular_momentum", np.zeros(3), l_drawn[frame])
+        title.set_text(f"t = {traj.t[indices[frame]]:.4g}")
+        return [surface, *lines.values(), title]
+
+    animation = FuncAnimation(
+        figure, draw, frames=len(indices), interval=interval, blit=False, repeat=True
+    )
+    animation.frame_indices = indices  # type: ignore[attr-defined]
+    if path is not None:
+        animation.save(path, writer=writer, fps=1000.0 / interval, dpi=dpi)
+    return animation

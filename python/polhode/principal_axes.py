@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core
+from polhode import _core, _display
 from polhode._coerce import as_array, as_float_array, as_scalar
 from polhode.errors import PolhodeError, ShapeError
 
@@ -37,6 +37,21 @@ class Principal:
         How many moments (itself included) equal each one within the tolerance: 1 1 1 for an
         asymmetric body, 2 2 1 or 1 2 2 for a symmetric one, 3 3 3 for a spherical one. Equal
         moments are returned exactly equal, with the canonical axes closest to the body's own.
+
+    Examples
+    --------
+    A cylinder (m = 2, r = 0.1, L = 0.5) along z: m r^2 / 2 about its axis, m (3 r^2 + L^2) / 12
+    across it.
+
+    >>> import polhode as ph
+    >>> p = ph.Body.cylinder(2.0, 0.1, 0.5).principal()
+    >>> [round(float(m), 12) for m in p.moments]
+    [0.01, 0.046666666667, 0.046666666667]
+    >>> p.multiplicity.tolist()
+    [1, 2, 2]
+    >>> moments, axes = p
+    >>> axes[:, 0].tolist()  # the symmetry axis
+    [0.0, 0.0, 1.0]
     """
 
     __slots__ = ("axes", "moments", "multiplicity")
@@ -62,10 +77,35 @@ class Principal:
         return iter((self.moments, self.axes))
 
     def __repr__(self) -> str:
+        if np.ndim(self.moments) == 1:
+            return (
+                f"Principal(moments={_display.vector(self.moments)}, "
+                f"multiplicity={_display.vector(self.multiplicity)}, "
+                f"axes={_display.vector(self.axes)})"
+            )
         return (
-            f"Principal(moments={self.moments!r}, axes={self.axes!r}, "
-            f"multiplicity={self.multiplicity!r})"
+            f"Principal({self._batch()} tensors: moments {_display.shape(self.moments)}, "
+            f"axes {_display.shape(self.axes)}, multiplicity {_display.shape(self.multiplicity)})"
         )
+
+    def _batch(self) -> str:
+        return " x ".join(str(d) for d in np.shape(self.moments)[:-1])
+
+    def _repr_html_(self) -> str:
+        if np.ndim(self.moments) == 1:
+            rows = [
+                ("moments (ascending)", _display.vector(self.moments)),
+                ("multiplicity", _display.vector(self.multiplicity)),
+                ("axes (columns)", _display.html_matrix(self.axes)),
+            ]
+        else:
+            rows = [
+                ("tensors", self._batch()),
+                ("moments (ascending)", _display.shape(self.moments)),
+                ("axes (columns)", _display.shape(self.axes)),
+                ("multiplicity", _display.shape(self.multiplicity)),
+            ]
+        return _display.html_table("Principal", rows)
 
 
 def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = False) -> Principal:
@@ -122,9 +162,19 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
     --------
     >>> import numpy as np
     >>> import polhode as ph
-    >>> p = ph.principal(np.diag([3.0, 1.0, 2.0]))
-    >>> p.moments
-    array([1., 2., 3.])
+    >>> p = ph.principal([[2.0, -1.0, 0.0], [-1.0, 2.0, 0.0], [0.0, 0.0, 3.0]])
+    >>> p.moments.tolist(), p.multiplicity.tolist()
+    ([1.0, 3.0, 3.0], [1, 2, 2])
+    >>> bool(np.allclose(p.axes[:, 0], [2**-0.5, 2**-0.5, 0.0], rtol=0, atol=1e-15))
+    True
+
+    A batch of N tensors gives N of each:
+
+    >>> batch = ph.principal(np.stack([np.diag([3.0, 1.0, 2.0]), np.diag([1.0, 1.0, 2.0])]))
+    >>> batch.moments.tolist(), batch.multiplicity.tolist()
+    ([[1.0, 2.0, 3.0], [1.0, 1.0, 2.0]], [[1, 1, 1], [2, 2, 1]])
+    >>> batch
+    Principal(2 tensors: moments (2, 3), axes (2, 3, 3), multiplicity (2, 3))
 
     A body turning about z by 5 degrees per frame, its moments 1 and 2 crossing halfway:
 

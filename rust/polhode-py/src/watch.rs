@@ -121,7 +121,9 @@ impl Watch {
         let fraction = self.fraction(monitor);
         let polled = Python::attach(|py| -> PyResult<()> {
             py.check_signals()?;
-            if let Some(progress) = &self.progress {
+            // 1.0 is reported once, by the caller when the run has returned: a batch whose
+            // bodies have all finished can still be polled before its result arrives.
+            if let Some(progress) = self.progress.as_ref().filter(|_| fraction < 1.0) {
                 progress.call1(py, (fraction,))?;
             }
             Ok(())
