@@ -120,7 +120,11 @@ def test_analysis():
         assert float(summary[name]) == pytest.approx(value, rel=5e-6)
     # The flip interval of I = (3, 5, 9) spun near the intermediate axis: half the period.
     assert float(summary["flip_interval"]) == pytest.approx(a.period / 2, rel=5e-6)
-    assert summary["precession_rate"] == "None"
+    assert summary["precession_rate_body"] == "None"  # not a symmetric top
+    assert float(summary["precession_rate_space"]) == pytest.approx(
+        a.precession_rate_space, rel=5e-6
+    )
+    assert summary["nutation_angle"].startswith("(")
     assert "axis_stability=('stable', 'unstable', 'stable')" in text
     assert "linearized={axis=1, kind='growth', rate=" in text
 

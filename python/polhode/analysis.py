@@ -82,7 +82,8 @@ class Analysis:
     >>> ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
     Analysis(regime='about_largest_axis', moments=[1, 2, 3], omega=[0.01, 1, 0.01],
              energy=1.0002, angular_momentum_norm=2.00025, period=39.1057,
-             flip_interval=19.5529, precession_rate=None,
+             flip_interval=19.5529, precession_rate_body=None,
+             precession_rate_space=1.10722, nutation_angle=(0.523555, 1.55855),
              axis_stability=('stable', 'unstable', 'stable'),
              linearized={axis=1, kind='growth', rate=0.57735})
     """
@@ -113,7 +114,14 @@ class Analysis:
             ("angular_momentum_norm", _display.number(self.angular_momentum_norm)),
             ("period", _display.number(self.period)),
             ("flip_interval", _display.number(self.flip_interval)),
-            ("precession_rate", _display.number(self.precession_rate)),
+            ("precession_rate_body", _display.number(self.precession_rate_body)),
+            ("precession_rate_space", _display.number(self.precession_rate_space)),
+            (
+                "nutation_angle",
+                "None"
+                if self.nutation_angle is None
+                else "(" + ", ".join(_display.number(a) for a in self.nutation_angle) + ")",
+            ),
             ("axis_stability", repr(tuple(self.axis_stability))),
             ("linearized", "{" + linearized + "}"),
         ]
@@ -217,7 +225,7 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     A symmetric top precesses at Omega = w_s (I_s - I_t) / I_t:
 
     >>> top = ph.analyze([1.0, 1.0, 2.0], [0.1, 0.0, 1.0])
-    >>> top.regime, top.precession_rate_body_body
+    >>> top.regime, top.precession_rate_body
     ('symmetric', 1.0)
     """
     if rtol is not None:

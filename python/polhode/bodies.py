@@ -213,7 +213,7 @@ class Body:
         Examples
         --------
         >>> import polhode as ph
-        >>> ph.Body.solid("sphere", 2.0, radius=0.5).inertia[0, 0]  # 2/5 m r^2
+        >>> float(ph.Body.solid("sphere", 2.0, radius=0.5).inertia[0, 0])  # 2/5 m r^2
         0.2
         """
         if not isinstance(kind, str):

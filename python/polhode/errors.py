@@ -186,6 +186,12 @@ class CancelledError(BaseException):
     :class:`BaseException`, so that an ``except Exception`` around the call does not swallow
     it, while schedulers that stop on KeyboardInterrupt (dask.distributed's workers) treat it
     as the failure of one task.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> issubclass(ph.CancelledError, Exception), issubclass(ph.CancelledError, BaseException)
+    (False, True)
     """
 
 

@@ -1153,6 +1153,13 @@ class Finding:
     corrected : str or None
         A corrected ``<inertial>`` element (URDF or MJCF, as the file) from the link's geometry
         with its declared mass, where one can be computed.
+
+    Examples
+    --------
+    >>> from polhode.io import Finding
+    >>> f = Finding("forearm", "error", "mass", "<mass value> is 0: no body has no mass.", None)
+    >>> f.severity, f.check
+    ('error', 'mass')
     """
 
     link: str

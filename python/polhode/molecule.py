@@ -272,6 +272,15 @@ class RotationalConstants(NamedTuple):
 
     ``A`` is None for a linear molecule (its moment about the axis is zero: rotation about the
     axis is no rotational degree of freedom), whose ``B`` and ``C`` are then equal.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> from polhode.molecule import rotational_constants
+    >>> co = ph.Body.from_atoms(["C", "O"], [[0, 0, 0], [0, 0, 1.128323]])
+    >>> a, b, c = rotational_constants(co, unit="GHz")
+    >>> a is None, round(b, 3), b == c
+    (True, 57.898, True)
     """
 
     A: float | None

@@ -142,6 +142,18 @@ def dissipation(traj: Trajectory, ax: Axes | None = None) -> Axes:
 
     Lines: ``"dissipation:energy"``, ``"dissipation:angular_momentum"``,
     ``"dissipation:separatrix"``, ``"dissipation:largest_axis"``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import polhode as ph
+    >>> from polhode import plot
+    >>> damper = ph.rotors.SphericalDamper(0.2, 0.1)
+    >>> sol = ph.simulate([1.0, 4.0, 5.0], [2.0, 0.01, 0.01], np.linspace(0, 200, 201),
+    ...                   rotors=[damper])
+    >>> ax = plot.dissipation(sol)
+    >>> sorted(line.get_gid() for line in ax.lines)[:2]
+    ['dissipation:angular_momentum', 'dissipation:energy']
     """
     _single(traj, "dissipation")
     ax = _new_axes() if ax is None else ax
