@@ -339,7 +339,14 @@ def _torque_function(v, kind):
     if kind == "constant":
         return lambda t, w, q: v
     if kind == "damping":
-        return lambda t, w, q: -0.1 * np.asarray(w) + v
+
+        def damping(t, w, q):
+            # Overflowing to inf is this function's own doing, not a warning to raise: the
+            # core must then refuse the non-finite torque with a typed error.
+            with np.errstate(over="ignore", invalid="ignore"):
+                return -0.1 * np.asarray(w) + v
+
+        return damping
     if kind == "junk":
         return lambda t, w, q: "abc"
     if kind == "nan":
