@@ -135,9 +135,9 @@ def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axe
 
 
 def dissipation(traj: Trajectory, ax: Axes | None = None) -> Axes:
-    """The energy sink: T and |L| against time, each relative to its value at t[0], with the
+    """The energy sink: T and ``|L|`` against time, each relative to its value at t[0], with the
     energies of the separatrix (L^2 / (2 I2)) and of the spin about the largest axis
-    (L^2 / (2 I3)), where a damper takes a body at fixed |L| (``traj.moments`` the principal
+    (L^2 / (2 I3)), where a damper takes a body at fixed ``|L|`` (``traj.moments`` the principal
     moments with the rotors locked, ascending).
 
     Lines: ``"dissipation:energy"``, ``"dissipation:angular_momentum"``,
