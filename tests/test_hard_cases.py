@@ -73,7 +73,7 @@ def test_far_cube_corners_composed_with_sum(offset):
     # sum() adds one corner at a time. The partial centres offset + k/3, k/5, k/7 are not
     # representable: stored as float64 they are off by up to eps |offset| / 2 ~ 7e-9, and the
     # next parallel-axis shift then errs by ~ 2 m delta d ~ 1e-8 unless the composite carries
-    # that rounding along (e.g. a compensated centre of mass). The contract (brief) asks for
+    # that rounding along (e.g. a compensated centre of mass). The contract asks for
     # the same 1e-12 as the other routes; see the report if this fails.
     masses, positions = ref.cube_corners(1.0, offset)
     body = sum(ph.Body.point_masses([m], [r]) for m, r in zip(masses, positions, strict=True))
@@ -145,7 +145,7 @@ def test_needle_smallest_moment(seed):
     # Smallest moment ~ sum m |jitter|^2 ~ 1e-13 against a largest ~ 3e2: a ratio of 3e-16, so
     # eig(I) returns noise (eps ||I|| ~ 7e-14). From the centred sqrt(m)(r - r_cm) (SVD/QR) it
     # is accurate: the singular values carry an absolute error ~ eps s1 = 4e-15 against
-    # s3 ~ 3e-7, i.e. ~1e-8 relative. Bound (brief): 1e-6 relative against an mpmath
+    # s3 ~ 3e-7, i.e. ~1e-8 relative. Bound: 1e-6 relative against an mpmath
     # eigensolve of the exactly centred second moments (50 digits).
     masses, positions, u = _needle(seed, 1e-8)
     body = ph.Body.point_masses(masses, positions)

@@ -2434,7 +2434,7 @@ fn legendre_integrals_match_mpmath() {
     }
 }
 
-/// A reference trajectory. The brief asks for 1e-13 in omega and orientation up to 100 periods;
+/// A reference trajectory. The target is 1e-13 in omega and orientation up to 100 periods;
 /// the tests hold 1e-14 (measured: below 3e-15 everywhere) to catch regressions.
 struct Fixture {
     moments: [f64; 3],
