@@ -2,9 +2,9 @@
 A composite machine part
 ========================
 
-A crank: a hub, a web, a crank pin and a counterweight. Built from solids, it has its mass
-properties at once; its principal axes show that it is dynamically unbalanced, and spun about
-its shaft it wobbles.
+A crank on a flywheel: a shaft, a flywheel, a crank web, a crank pin and a counterweight. Built
+from solids, it has its mass properties at once. Its axis of largest moment is tilted from the
+shaft, so it is dynamically unbalanced: spun freely about its shaft, the shaft wobbles.
 """
 
 import matplotlib.pyplot as plt
@@ -24,24 +24,24 @@ def cylinder(radius, length):
 
 
 # %%
-# The shaft runs along z; the web lies in the xz plane; the crank pin sticks out at x = 6 cm on
-# one side of the web, the counterweight at x = -4 cm on the other side.
-hub = cylinder(0.02, 0.06)
-web = cuboid([0.14, 0.03, 0.015]).translated([0.01, 0.0, 0.0375])
-pin = cylinder(0.012, 0.05).translated([0.06, 0.0, 0.07])
-counterweight = cuboid([0.05, 0.06, 0.02]).translated([-0.045, 0.0, 0.02])
-crank = hub + web + pin + counterweight
+# The shaft runs along z with the flywheel below; above it, the web lies along x, with the
+# crank pin at x = 5.5 cm on one side and the counterweight on the other.
+shaft = cylinder(0.012, 0.08)
+flywheel = cylinder(0.1, 0.015).translated([0.0, 0.0, -0.02])
+web = cuboid([0.08, 0.025, 0.012]).translated([0.025, 0.0, 0.026])
+pin = cylinder(0.008, 0.025).translated([0.055, 0.0, 0.0445])
+counterweight = cuboid([0.03, 0.05, 0.012]).translated([-0.025, 0.0, 0.026])
+crank = shaft + flywheel + web + pin + counterweight
 p = crank.principal()
 print(crank)
-print("centre of mass (m):", crank.center_of_mass)
 print("principal axes (columns):")
-print(p.axes)
+print(p.axes.round(4))
 
 # %%
-# The largest axis is tilted from the shaft (z): a product of inertia I_xz is not zero.
+# The product of inertia I_xz is not zero: the axis of the largest moment leans from the shaft.
 tilt = np.degrees(np.arccos(abs(p.axes[2, 2])))
 print(f"I_xz = {crank.inertia[0, 2]:.3e} kg m^2")
-print(f"the largest axis is {tilt:.2f} deg from z")
+print(f"the largest axis is {tilt:.2f} deg from the shaft")
 
 # %%
 # The inertia as a simulator reads it: MuJoCo's ``<inertial>`` and URDF's.
@@ -49,10 +49,27 @@ print(crank.to_mjcf())
 print(crank.to_urdf_inertial())
 
 # %%
-# Spun freely at 30 rad/s about its shaft, it does not keep turning about the shaft: the
-# principal axes cone about the fixed angular momentum.
-t = np.linspace(0.0, 1.0, 241)
+# Spun freely at 30 rad/s about its shaft, it turns about the fixed angular momentum L, which
+# is not along the shaft: the shaft cones about L. Seen from above, the tip of the shaft's
+# direction runs round a small circle about L.
+t = np.linspace(0.0, 1.0, 2001)
 sol = ph.simulate(crank, [0.0, 0.0, 30.0], t)
+momentum = sol.angular_momentum_space[0] / np.linalg.norm(sol.angular_momentum_space[0])
+shaft_axis = sol.orientation.apply([0.0, 0.0, 1.0])
+wobble = np.degrees(np.arccos(np.clip(shaft_axis @ momentum, -1.0, 1.0)))
+print(f"the shaft leans up to {wobble.max():.2f} deg from L")
+
+fig, ax = plt.subplots(figsize=(5, 5), layout="constrained")
+ax.plot(shaft_axis[:, 0], shaft_axis[:, 1], linewidth=0.8)
+ax.plot(*momentum[:2], "+", color="tab:purple", markersize=12, label="L")
+ax.set_aspect("equal")
+ax.set_xlabel("x (space)")
+ax.set_ylabel("y (space)")
+ax.set_title("Direction of the shaft, seen from above")
+ax.legend()
+
+# %%
+# The crank turning (16 frames of the first second).
 fig = plt.figure(figsize=(5, 5), dpi=72, layout="constrained")
 ax = fig.add_subplot(projection="3d")
 anim = ph.plot.animate(sol, crank, frames=16, interval=120, ax=ax)

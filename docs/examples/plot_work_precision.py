@@ -23,6 +23,7 @@ fig, ax = plt.subplots(figsize=(8, 5.5), layout="constrained")
 ph.plot.work_precision(series, ax=ax)
 ax.set_xlabel("wall time of the call (s)")
 ax.set_ylabel("relative error of omega at t = 100")
+ax.legend(loc="lower right", fontsize="small")
 
 # %%
 # The exact solution costs the same at any accuracy, and the fastest way to a given error is

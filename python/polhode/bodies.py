@@ -252,8 +252,8 @@ class Body:
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, length: float) -> Body:
-        """A solid cylinder along z, centred on the origin (its faces at z = -+length/2):
-        I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
+        """A solid cylinder along z, centred on the origin (its end faces at z = -length/2 and
+        z = length/2): I_z = m r^2/2, I_x = I_y = m (3 r^2 + L^2)/12."""
         return cls.solid("cylinder", mass, radius=radius, length=length)
 
     @classmethod
