@@ -31,6 +31,7 @@ pub mod eigen;
 mod error;
 pub mod exact;
 pub mod mass;
+mod simd;
 pub mod simulation;
 
 pub use eigen::{symmetric_eigen3, Principal};

@@ -229,23 +229,13 @@ fn frame_second_moment<P: Position>(
 }
 
 /// The first moment about the first point and the second moments about the centre of mass,
-/// with the widest vector instructions the CPU has (checked at run time; the arithmetic is the
-/// same IEEE operations either way, so the result does not depend on it).
+/// with the widest vector instructions the CPU has (`crate::simd::dispatch`: the same IEEE
+/// operations either way, so the result does not depend on it).
 fn moments(masses: &[f64], total: f64, offsets: &mut Offsets) -> ([f64; 3], [f64; 6]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { moments_avx2(masses, total, offsets) };
-        }
-    }
-    moments_generic(masses, total, offsets)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx,avx2")]
-unsafe fn moments_avx2(masses: &[f64], total: f64, offsets: &mut Offsets) -> ([f64; 3], [f64; 6]) {
-    moments_generic(masses, total, offsets)
+    crate::simd::dispatch(
+        #[inline(always)]
+        || moments_generic(masses, total, offsets),
+    )
 }
 
 #[inline(always)]

@@ -1,0 +1,30 @@
+//! Running a kernel with the widest vector instructions the CPU has, chosen at run time.
+//!
+//! The wheel is built for the x86-64 baseline (SSE2), so a kernel shaped for vectorisation
+//! (structure-of-arrays blocks, fixed-width lanes, `#[inline(always)]` helpers) is compiled twice
+//! through [`dispatch`]: once for the baseline and once with AVX2 enabled, and the AVX2 copy runs
+//! where `is_x86_feature_detected!` finds it. FMA is deliberately not enabled, and Rust never
+//! contracts `a * b + c` on its own, so both copies perform the same IEEE operations in the same
+//! order: a result does not depend on the CPU it was computed on.
+
+/// Runs `kernel`, compiled with AVX2 when the CPU supports it (checked once per call; the check
+/// is a cached load). The closure and every function it calls that should be vectorised must be
+/// inlined into it (`#[inline(always)]`), since the wider instructions are enabled only inside
+/// the dispatched copy.
+#[inline(always)]
+pub(crate) fn dispatch<R>(kernel: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { avx2(kernel) };
+        }
+    }
+    kernel()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2")]
+unsafe fn avx2<R>(kernel: impl FnOnce() -> R) -> R {
+    kernel()
+}
