@@ -1126,7 +1126,18 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status: 0, 2 for bad arguments (with a message on
-    stderr, never a traceback), 1 when writing an output fails, 130 on Ctrl-C."""
+    stderr, never a traceback), 1 when writing an output fails, 130 on Ctrl-C, 141 (as a shell
+    reports SIGPIPE) when the reader of the output goes away, as in ``polhode ... | head``."""
+    try:
+        return _main(argv)
+    except BrokenPipeError:
+        # Whatever is still buffered for the closed pipe goes nowhere, quietly, at exit too.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141
+
+
+def _main(argv: list[str] | None) -> int:
     parser = _parser()
     try:
         args = parser.parse_args(sys.argv[1:] if argv is None else argv)
@@ -1142,6 +1153,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, TypeError) as error:  # PolhodeError is a ValueError
         print(f"polhode {args.command}: error: {error}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        raise  # main's: the reader went away, not an error of the output
     except OSError as error:
         print(f"polhode {args.command}: error: {error}", file=sys.stderr)
         return 1
