@@ -130,3 +130,20 @@ def test_memory_is_asked_only_for_outputs_that_may_not_fit(monkeypatch):
     monkeypatch.setattr(simulation, "_available_memory", lambda: 1)
     with pytest.raises(MemoryError, match="bytes"):
         simulation._check_fits(np.zeros(3), times, True)
+
+
+def test_order3_is_numpys_stable_argsort():
+    from itertools import product
+
+    from polhode.analysis import _order3
+
+    for m in product([1.0, 2.0, 3.0], repeat=3):  # every order, with ties
+        assert _order3(list(m)) == tuple(np.argsort(m, kind="stable").tolist())
+
+
+@pytest.mark.parametrize(
+    "omega0", [[1.0, 1.0, 1.0], [0.5, -1.0, 1.0], [-2.0, 2.0, 0.0], [0.0, 0.0, 0.0], [0.1, 0.3, -0.3]]
+)
+def test_linearized_axis_is_numpys_argmax(omega0):
+    a = ph.analyze([1.0, 2.0, 3.0], omega0)
+    assert a.linearized["axis"] == int(np.argmax(np.abs(omega0)))

@@ -176,9 +176,22 @@ def _merged(moments: NDArray[np.float64], rtol: float | None) -> NDArray[np.floa
 _EYE = np.eye(3)
 _EYE.flags.writeable = False
 
-#: The one output time of analyze's check of its arguments by the core.
-_T0 = np.zeros(1)
-_T0.flags.writeable = False
+
+#: The two other axes of each axis.
+_OTHERS = ((1, 2), (0, 2), (0, 1))
+
+
+def _order3(m: list[float]) -> tuple[int, int, int]:
+    """The indices that sort three numbers ascending, equal ones in their order (what
+    ``numpy.argsort(m, kind="stable")`` gives), by comparisons: a small call."""
+    a, b, c = m
+    if a <= b:
+        if b <= c:
+            return (0, 1, 2)
+        return (0, 2, 1) if a <= c else (2, 0, 1)
+    if a <= c:
+        return (1, 0, 2)
+    return (1, 2, 0) if b <= c else (2, 1, 0)
 
 
 def _principal_frame(
@@ -251,14 +264,12 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
             argument="omega0",
         )
     # The same checks as simulate (body, positive moments, finite omega0 and energy), in the
-    # core: an rk4 run that takes no step, for them alone (free_rotation below builds the
-    # closed form, with its own checks).
-    _core.simulate(_simulation_body(body), omega_body, _T0, method="rk4", dt=1.0,
-                   orientation=False)
+    # core, and nothing else (free_rotation below builds the closed form, with its own checks).
+    _core.check_motion(_simulation_body(body), omega_body)
     moments, axes = _principal_frame(body, rtol)
     # Ascending moments (a stable sort, as numpy's); Python floats from here on: a small call.
     m = moments.tolist()
-    order = sorted(range(3), key=m.__getitem__)
+    order = _order3(m)
     # omega in the principal axes: with the identity (moments given as numbers), what the
     # product would give (+ 0.0: its zeros are +0) without its cost.
     w3 = (
@@ -291,9 +302,10 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         stability = ("stable", "neutral", "neutral")
     else:
         stability = ("stable", "unstable", "stable")
-    size = [abs(x) for x in omega]
-    k = size.index(max(size))  # the first of the largest, as numpy's argmax
-    a, b = [j for j in range(3) if j != k]
+    # The axis of the largest |omega|, the first of equal ones (as numpy's argmax).
+    s0, s1, s2 = abs(omega[0]), abs(omega[1]), abs(omega[2])
+    k = 0 if s0 >= s1 and s0 >= s2 else 1 if s1 >= s2 else 2
+    a, b = _OTHERS[k]
     w = omega[k]
     ma, mb, mk = mom[a], mom[b], mom[k]
     # Omega_a Omega_b = w^2 (I_k - I_b) (I_k - I_a) / (I_a I_b), and the rate its square root:
