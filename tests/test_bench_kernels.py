@@ -409,3 +409,28 @@ def test_polhode_bench_kernels_prints_the_table(monkeypatch, capsys):
     assert calls == [(True, 5)]
     assert "# polhode bench --kernels --quick" in out
     assert "| k | 100 ms | numpy | 200 ms | 2x | 30x | **no** | 204 |" in out
+
+
+def test_report_has_a_kernels_section(monkeypatch):
+    """benchmarks/report.py writes the table and names the rows that miss their target."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "report.py"
+    if not path.exists():
+        pytest.skip("benchmarks/ is not beside the tests")
+    spec = importlib.util.spec_from_file_location("report_under_test", path)
+    report = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(report)
+    rows = [
+        kernels.Row("fast kernel", "rk4", 10, "body-step", "numpy", [1.0] * 5, [40.0] * 5),
+        kernels.Row("slow kernel", "mesh", 10, "face", "trimesh", [1.0] * 5, [2.0] * 5),
+    ]
+    monkeypatch.setattr(
+        kernels, "run",
+        lambda quick=False, repeats=5: kernels.Kernels(rows, kernels.Limits(1e10, 1e11, "x"), 5),
+    )
+    lines = report._kernels_section(True, 5)
+    assert lines[0] == "## Kernels against the hardware"
+    assert "| fast kernel | 100 ms | numpy | 4 s | 40x | 30x | yes | 204 |" in "\n".join(lines)
+    assert "- Targets met: 1 of 2; not met: slow kernel." in lines

@@ -142,7 +142,8 @@ def test_order3_is_numpys_stable_argsort():
 
 
 @pytest.mark.parametrize(
-    "omega0", [[1.0, 1.0, 1.0], [0.5, -1.0, 1.0], [-2.0, 2.0, 0.0], [0.0, 0.0, 0.0], [0.1, 0.3, -0.3]]
+    "omega0",
+    [[1.0, 1.0, 1.0], [0.5, -1.0, 1.0], [-2.0, 2.0, 0.0], [0.0, 0.0, 0.0], [0.1, 0.3, -0.3]],
 )
 def test_linearized_axis_is_numpys_argmax(omega0):
     a = ph.analyze([1.0, 2.0, 3.0], omega0)

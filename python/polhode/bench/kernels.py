@@ -329,6 +329,8 @@ class Row:
 
 
 def _time(seconds: float) -> str:
+    if seconds >= 1.0:
+        return f"{seconds:.3g} s"
     if seconds >= 1e-3:
         return f"{seconds * 1e3:.3g} ms"
     if seconds >= 1e-6:
