@@ -3,10 +3,11 @@
     python -m benchmarks.report [--quick] [--criterion] [--out docs/benchmarks.md]
 
 Runs every benchmark of polhode.bench (work-precision on three cases, invariant drift, batch
-throughput, eigensolve, point masses, meshes) in this process and, with ``--criterion``, the
-Rust kernels' criterion benches (`cargo bench -p polhode-bench --bench kernels`). Every number and
-every sentence that carries one in the document is written by this script: regenerate it,
-do not edit it by hand. The full run takes about ten minutes on 2 cores.
+throughput, eigensolve, point masses, meshes, the kernels against the hardware) in this
+process and, with ``--criterion``, the Rust kernels' criterion benches (`cargo bench -p
+polhode-bench --bench kernels`). Every number and every sentence that carries one in the
+document is written by this script: regenerate it, do not edit it by hand. The full run takes
+about ten minutes on 2 cores.
 """
 
 from __future__ import annotations
@@ -142,6 +143,43 @@ def _reading_throughput(result: bench.Throughput) -> list[str]:
                     f"(N = {min(r)} to {max(r)}); at N = 1: {r.get(1, float('nan')):.3g}."
                 )
     return lines
+
+
+def _kernels_section(quick: bool, repeats: int) -> list[str]:
+    """The "Kernels against the hardware" section: the roofline table of
+    :mod:`polhode.bench.kernels` and the rows that miss their target."""
+    from polhode.bench import kernels
+
+    result = kernels.run(quick=quick, repeats=repeats)
+    sizes = "a tenth of the sizes below (meshes of 20,480 faces)" if quick else "these sizes"
+    missed = [row.kernel for row in result.rows if not row.met]
+    return [
+        "## Kernels against the hardware",
+        "",
+        "`python -m benchmarks.bench_kernels" + (" --quick" if quick else "") + "` or "
+        "`polhode bench --kernels" + (" --quick" if quick else "") + "`. Each kernel "
+        f"at {sizes}: batch eigensolve of 1e6 random and 1e6 degenerate tensors against "
+        "`numpy.linalg.eigh`, a mesh of 327,680 faces against trimesh, 1e7 point masses "
+        "against the numpy reference, the exact solution per output time (full state and "
+        "omega alone, 2e5 times) against `scipy.special.ellipj` at as many arguments, batch "
+        "rk4, splitting and midpoint (1e5 bodies, 50 steps, with attitude) against a numpy "
+        "structure-of-arrays rk4, and one small call (`simulate` of one body at 2 times, "
+        "`analyze`) against `Rotation.from_rotvec(...).as_matrix()`. Ratio: the peer's time "
+        "over polhode's, medians of interleaved repeats in this run; the target is the ratio "
+        "to reach. Flops and bytes per element are counts written in "
+        "`python/polhode/bench/kernels.py` (the bytes the compulsory traffic); the fraction of "
+        "the limit is the roofline's time, max(flops / peak, bytes / bandwidth), over the "
+        "time measured, '-' where the work has no meaningful flop count (transcendental "
+        "functions, iterations, a Python call).",
+        "",
+        result.table(),
+        "",
+        (
+            f"- Targets met: {len(result.rows) - len(missed)} of {len(result.rows)}"
+            + (f"; not met: {', '.join(missed)}." if missed else ".")
+        ),
+        "",
+    ]
 
 
 def _criterion(out: list[str]) -> None:
@@ -327,6 +365,9 @@ def main(argv: Sequence[str] | None = None) -> None:
         "",
         _block(bench.mesh_offset(5)),
     ]
+
+    print("kernels ...", flush=True)
+    doc += _kernels_section(quick, args.repeats)
 
     if args.criterion:
         print("criterion ...", flush=True)

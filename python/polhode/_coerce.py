@@ -14,6 +14,9 @@ from numpy.typing import NDArray
 
 from polhode.errors import ArgumentError, NonFiniteError, ShapeError
 
+#: float64's dtype: numpy keeps one instance of each built-in dtype.
+_FLOAT64 = np.dtype(np.float64)
+
 __all__ = ["as_array", "as_float_array", "as_integer", "as_rotation_matrix", "as_scalar"]
 
 
@@ -25,6 +28,8 @@ def _shape_str(shape: tuple[int, ...]) -> str:
 
 def as_scalar(name: str, value: Any) -> float:
     """A real number as float; TypeError for anything else (bool, str, arrays)."""
+    if type(value) is float:
+        return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
             return float(value)
@@ -41,22 +46,34 @@ def _kind(value: Any) -> str:
 def as_float_array(name: str, value: Any) -> NDArray[np.float64]:
     """A C-contiguous float64 array of any shape: TypeError naming ``name`` for anything that
     is not real numbers (strings, None, complex numbers, objects), also inside a list (numpy
-    would read ``[1, None]`` as ``[1, nan]``)."""
-    if value is None or isinstance(value, str | bytes) or np.iscomplexobj(value):
+    would read ``[1, None]`` as ``[1, nan]``). At least one dimension, as
+    ``numpy.ascontiguousarray`` gives: a scalar comes back with shape (1,). A C-contiguous
+    float64 array is returned as it is, and anything else is read by numpy once: this runs
+    several times in every small call."""
+    if type(value) is np.ndarray:
+        if value.dtype is _FLOAT64 and value.flags.c_contiguous and value.ndim:
+            return value
+        raw: NDArray[Any] = value
+    elif value is None or isinstance(value, str | bytes):
         raise TypeError(f"Expected `{name}` to be an array of real numbers, got {_kind(value)}.")
-    if not isinstance(value, np.ndarray) or value.dtype.kind == "O":
+    else:
         try:
             raw = np.asarray(value)
         except (TypeError, ValueError) as error:
             raise TypeError(
                 f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
             ) from error
-        if raw.dtype.kind not in "biuf" and not (raw.dtype.kind == "O" and _all_real(raw)):
-            what = _kind(value) if raw.dtype.kind == "O" else f"{_kind(value)} of {raw.dtype}"
-            raise TypeError(f"Expected `{name}` to be an array of real numbers, got {what}.")
+    kind = raw.dtype.kind
+    if kind not in "biuf" and not (kind == "O" and _all_real(raw)):
+        what = (
+            _kind(value)
+            if kind in "Oc" or isinstance(value, np.ndarray)
+            else f"{_kind(value)} of {raw.dtype}"
+        )
+        raise TypeError(f"Expected `{name}` to be an array of real numbers, got {what}.")
     try:
-        return np.ascontiguousarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as error:
+        return np.ascontiguousarray(raw, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as error:
         raise TypeError(
             f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
         ) from error
@@ -133,6 +150,8 @@ def as_integer(
     name: str, value: Any, *, allowed: tuple[int, ...] = (), minimum: int | None = None
 ) -> int:
     """An integer (bool excluded): TypeError for other types, PolhodeError outside the range."""
+    if type(value) is int and not allowed and minimum is None:
+        return value
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"Expected `{name}` to be an integer, got {type(value).__name__}.")
     result = int(value)

@@ -12,6 +12,7 @@ __all__ = [
     "MassProperties",
     "cancel_all",
     "cancel_epoch",
+    "check_motion",
     "check_rotor",
     "check_torque",
     "free_rotation",
@@ -95,6 +96,12 @@ def check_rotor(rotor: Any) -> None: ...
 def check_torque(torque: Any) -> None: ...
 def cancel_all() -> None: ...
 def cancel_epoch() -> int: ...
+def check_motion(
+    body: NDArray[np.float64] | MassProperties | list[MassProperties],
+    omega0: NDArray[np.float64],
+    *,
+    rotors: Sequence[Any] | None = None,
+) -> None: ...
 def free_rotation(
     moments: tuple[float, float, float], omega0: tuple[float, float, float]
 ) -> dict[str, Any]: ...

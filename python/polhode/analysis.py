@@ -172,6 +172,28 @@ def _merged(moments: NDArray[np.float64], rtol: float | None) -> NDArray[np.floa
     return out
 
 
+#: The axes of principal moments given as numbers (read-only: returned, never written).
+_EYE = np.eye(3)
+_EYE.flags.writeable = False
+
+
+#: The two other axes of each axis.
+_OTHERS = ((1, 2), (0, 2), (0, 1))
+
+
+def _order3(m: list[float]) -> tuple[int, int, int]:
+    """The indices that sort three numbers ascending, equal ones in their order (what
+    ``numpy.argsort(m, kind="stable")`` gives), by comparisons: a small call."""
+    a, b, c = m
+    if a <= b:
+        if b <= c:
+            return (0, 1, 2)
+        return (0, 2, 1) if a <= c else (2, 0, 1)
+    if a <= c:
+        return (1, 0, 2)
+    return (1, 2, 0) if b <= c else (2, 1, 0)
+
+
 def _principal_frame(
     body: Any, rtol: float | None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -183,7 +205,7 @@ def _principal_frame(
         return p.moments, p.axes
     array = _as_float_array("body", body)
     if array.shape == (3,):
-        return _merged(array, rtol), np.eye(3)
+        return _merged(array, rtol), _EYE
     if array.shape == (3, 3):
         p = principal(array, rtol)
         return p.moments, p.axes
@@ -241,14 +263,21 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
             f"takes N), got {omega_body.shape}.",
             argument="omega0",
         )
-    # The same checks as simulate (positive moments, finite omega0 and energy), in the core.
-    _core.simulate(_simulation_body(body), omega_body, np.zeros(1), method="exact",
-                   orientation=False)
+    # The same checks as simulate (body, positive moments, finite omega0 and energy), in the
+    # core, and nothing else (free_rotation below builds the closed form, with its own checks).
+    _core.check_motion(_simulation_body(body), omega_body)
     moments, axes = _principal_frame(body, rtol)
-    order = np.argsort(moments, kind="stable")
-    moments = moments[order]
-    omega = (omega_body @ axes)[order]
-    info = _core.free_rotation(tuple(moments), tuple(omega))
+    # Ascending moments (a stable sort, as numpy's); Python floats from here on: a small call.
+    m = moments.tolist()
+    order = _order3(m)
+    # omega in the principal axes: with the identity (moments given as numbers), what the
+    # product would give (+ 0.0: its zeros are +0) without its cost.
+    w3 = (
+        [x + 0.0 for x in omega_body.tolist()] if axes is _EYE else (omega_body @ axes).tolist()
+    )
+    mom = [m[i] for i in order]
+    omega = [w3[i] for i in order]
+    info = _core.free_rotation(mom, omega)
     regime = info["regime"]
     if regime == "about_axis":
         regime = _ABOUT[info["axis"]]
@@ -257,14 +286,13 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     nutation = info["nutation_angle"]
     precession = None
     # Equal as the core's regime sees them (exactly): the merging is done above.
-    equal = [moments[1] == moments[0], moments[2] == moments[1]]
+    equal = [mom[1] == mom[0], mom[2] == mom[1]]
     if equal[0] != equal[1]:
         s = 2 if equal[0] else 0  # the symmetry axis: the distinct moment
         t = 1
         precession = _rate(
             "the precession rate w_s (I_s - I_t) / I_t",
-            Fraction(float(omega[s])) * (Fraction(float(moments[s])) - Fraction(float(moments[t])))
-            / Fraction(float(moments[t])),
+            Fraction(omega[s]) * (Fraction(mom[s]) - Fraction(mom[t])) / Fraction(mom[t]),
         )
     if equal[0] and equal[1]:
         stability: tuple[str, str, str] = ("neutral", "neutral", "neutral")
@@ -274,15 +302,17 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         stability = ("stable", "neutral", "neutral")
     else:
         stability = ("stable", "unstable", "stable")
-    k = int(np.argmax(np.abs(omega)))
-    a, b = [j for j in range(3) if j != k]
-    w = float(omega[k])
-    ma, mb, mk = (float(moments[j]) for j in (a, b, k))
+    # The axis of the largest |omega|, the first of equal ones (as numpy's argmax).
+    s0, s1, s2 = abs(omega[0]), abs(omega[1]), abs(omega[2])
+    k = 0 if s0 >= s1 and s0 >= s2 else 1 if s1 >= s2 else 2
+    a, b = _OTHERS[k]
+    w = omega[k]
+    ma, mb, mk = mom[a], mom[b], mom[k]
     # Omega_a Omega_b = w^2 (I_k - I_b) (I_k - I_a) / (I_a I_b), and the rate its square root:
     # in doubles when the product is one (moments within 1e308 of each other), else from the
-    # two square roots apart; a rate beyond the largest double is an error, not inf.
-    with np.errstate(over="ignore", invalid="ignore"):
-        product = (w * (mk - mb) / ma) * (w * (mk - ma) / mb)
+    # two square roots apart; a rate beyond the largest double is an error, not inf. (Python
+    # floats overflow to inf, and inf * 0 is nan, without raising.)
+    product = (w * (mk - mb) / ma) * (w * (mk - ma) / mb)
     if math.isfinite(product):
         rate = math.sqrt(abs(product))
     else:
@@ -296,9 +326,12 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         "kind": "growth" if growth else "oscillation",
         "rate": rate,
     }
-    return Analysis(
-        moments=moments,
-        omega=omega,
+    # The fields set in one step (a frozen dataclass's __init__ sets each through
+    # object.__setattr__): the same object as Analysis(...) with these fields, in their order.
+    analysis = object.__new__(Analysis)
+    analysis.__dict__.update(
+        moments=np.array(mom),
+        omega=np.array(omega),
         energy=float(info["energy"]),
         angular_momentum_norm=float(info["angular_momentum_norm"]),
         regime=regime,
@@ -310,3 +343,4 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         axis_stability=stability,
         linearized=linearized,
     )
+    return analysis

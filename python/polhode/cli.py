@@ -899,6 +899,13 @@ def _print_inertia(result: dict[str, Any]) -> None:
 def _bench(args: argparse.Namespace) -> int:
     from polhode import bench
 
+    if args.kernels:
+        from polhode.bench import kernels
+
+        print(f"# polhode bench --kernels{' --quick' if args.quick else ''} ({bench.machine()})")
+        print(f"# peers: {bench.peers()}\n")
+        print(kernels.run(quick=args.quick, repeats=args.repeats or 5).table())
+        return 0
     bench.run(quick=args.quick, repeats=args.repeats)
     return 0
 
@@ -1118,7 +1125,13 @@ def _parser() -> argparse.ArgumentParser:
     bench_parser.add_argument(
         "--repeats",
         type=_integer("an integer >= 1", 1),
-        help="repeats per setting (default 3/5)",
+        help="repeats per setting (default 3/5; at least 5 with --kernels)",
+    )
+    bench_parser.add_argument(
+        "--kernels",
+        action="store_true",
+        help="only the kernels against the hardware: each kernel's time per element against "
+        "its peer and target, flops and bytes per element, fraction of the machine's limit",
     )
     bench_parser.set_defaults(run=_bench)
     return parser

@@ -254,6 +254,28 @@ def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float
 OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
 
 
+def _trajectory(
+    times: NDArray[np.float64], outputs: dict[str, Any], stats: dict[str, Any]
+) -> Trajectory:
+    """The Trajectory of the core's outputs by name (each a field; None for those it did not
+    compute).
+
+    The same object as ``Trajectory(t=times, stats=stats, **fields)``, its fields set in one
+    step: a frozen dataclass's ``__init__`` sets each through ``object.__setattr__``, a tenth
+    of a small call."""
+    trajectory = object.__new__(Trajectory)
+    fields = dict.fromkeys(_FIELDS)  # every field, in order, None until set
+    fields.update(outputs)
+    fields["t"] = times
+    fields["stats"] = stats
+    trajectory.__dict__.update(fields)
+    return trajectory
+
+
+#: Every field of Trajectory, in order.
+_FIELDS = tuple(Trajectory.__dataclass_fields__)
+
+
 def _body(body: Any) -> Any:
     """What the core takes for ``body``: the core of a Body, a list of them, or numbers."""
     if isinstance(body, Body):
@@ -278,14 +300,24 @@ def _available_memory() -> int | None:
         return None
 
 
+#: Output sizes (bytes) that :func:`_check_fits` takes as fitting without asking the system.
+_ALWAYS_FITS = 64 * 2**20
+
+
 def _check_fits(
     omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool, rotors: int = 0
 ) -> None:
-    """MemoryError before the work if the outputs cannot fit in this machine's memory."""
+    """MemoryError before the work if the outputs cannot fit in this machine's memory.
+
+    Outputs up to :data:`_ALWAYS_FITS` bytes are not checked (reading /proc/meminfo would be
+    most of a small call); should even they not fit, the core's allocation fails cleanly with
+    MemoryError."""
     n = omega0.shape[0] if omega0.ndim == 2 else 1
     # The numbers of every output quantity at one time.
     per_time = (14 if orientation else 7) + 3 * rotors
     size = float(n) * float(times.size) * per_time * 8
+    if size <= _ALWAYS_FITS:
+        return
     available = _available_memory()
     if available is not None and size > available:
         raise MemoryError(
@@ -456,21 +488,23 @@ def simulate(
     started = time.perf_counter()
     if not isinstance(method, str):
         raise TypeError(f"Expected `method` to be a string, got {type(method).__name__}.")
-    _check_progress(progress)
+    if progress is not False:
+        _check_progress(progress)
     t0 = as_scalar("t0", t0)
     times = _as_float_array("t", t)
-    if np.ndim(t) == 0:
+    if times.shape == (1,) and np.ndim(t) == 0:
         times = np.array([t0, float(times[0])])
     omega = _as_float_array("omega0", omega0)
     rotors = None if rotors is None else as_rotors(rotors)
-    _check_fits(omega, times, bool(orientation), 0 if rotors is None else len(rotors))
-    callback, bar = _progress(progress)
+    orientation = bool(orientation)
+    _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
+    callback, bar = (None, None) if progress is False else _progress(progress)
     try:
         outputs = _core.simulate(
             _body(body),
             omega,
             times,
-            orientation0=_orientation0(orientation0),
+            orientation0=None if orientation0 is None else _orientation0(orientation0),
             t0=t0,
             method=method,
             dt=None if dt is None else as_scalar("dt", dt),
@@ -478,7 +512,7 @@ def simulate(
             rtol=as_scalar("rtol", rtol),
             atol=None if atol is None else as_scalar("atol", atol),
             torque=None if torque is None else as_torque(torque),
-            orientation=bool(orientation),
+            orientation=orientation,
             max_steps=as_integer("max_steps", max_steps),
             progress=callback,
             rotors=rotors,
@@ -486,6 +520,12 @@ def simulate(
     finally:
         if bar is not None:
             bar.close()
-    stats = {k: outputs.pop(k) for k in ("method", "steps", "rejected_steps", "evaluations")}
-    stats["wall_time"] = time.perf_counter() - started
-    return Trajectory(t=times, stats=stats, **{k: outputs.get(k) for k in OUTPUTS})
+    pop = outputs.pop
+    stats = {
+        "method": pop("method"),
+        "steps": pop("steps"),
+        "rejected_steps": pop("rejected_steps"),
+        "evaluations": pop("evaluations"),
+        "wall_time": time.perf_counter() - started,
+    }
+    return _trajectory(times, outputs, stats)

@@ -12,7 +12,9 @@ series whose peer is not installed is left out and named in the result's ``skipp
 Modules: :mod:`~polhode.bench.adapters` (the peers, called as their users would),
 :mod:`~polhode.bench.motion` (work-precision, drift, throughput), :mod:`~polhode.bench.mass`
 (eigensolve, point masses, meshes), :mod:`~polhode.bench.plots` (the figures). Their public
-names are re-exported here. ``import polhode`` does not import this package.
+names are re-exported here. :mod:`~polhode.bench.kernels` (each kernel against its peer and
+the hardware's limits, ``polhode bench --kernels``) is imported by name. ``import polhode``
+does not import this package.
 """
 
 from __future__ import annotations

@@ -25,7 +25,7 @@ mod _core {
     use crate::mass::{principal, PyMassProperties};
 
     #[pymodule_export]
-    use crate::motion::{free_rotation, simulate};
+    use crate::motion::{check_motion, free_rotation, simulate};
 
     #[pymodule_export]
     use crate::rotors::check_rotor;

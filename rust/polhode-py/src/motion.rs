@@ -274,6 +274,58 @@ pub fn simulate<'py>(
     to_dict(py, outputs, n.is_none(), run.method.name())
 }
 
+/// Checks one body, its initial angular velocity and its rotors as `simulate` checks them (the
+/// body's shape and moments, a finite `omega0` of shape (3,) and a finite energy, the rotors
+/// inside the body), with the same errors, and computes nothing else: the core runs them
+/// through a zero-step rk4 run of the body at its initial time, and nothing is converted back.
+/// What `polhode.analyze` checks before its closed form, at a fraction of a `simulate` call.
+#[pyfunction]
+#[pyo3(signature = (body, omega0, *, rotors=None))]
+pub fn check_motion(
+    body: &Bound<'_, PyAny>,
+    omega0: PyReadonlyArrayDyn<'_, f64>,
+    rotors: Option<Vec<Bound<'_, PyAny>>>,
+) -> PyResult<()> {
+    let (omega_shape, omega_data) = dense(&omega0);
+    if omega_shape.as_slice() != [3] {
+        return Err(bad_shape("omega0", "(3,)", &omega_shape));
+    }
+    let bodies = bodies(body, None)?;
+    let raised: Raised = Arc::new(Mutex::new(None));
+    let rotors = rotors
+        .unwrap_or_default()
+        .iter()
+        .map(|r| rotor_spec(r, &raised))
+        .collect::<PyResult<Vec<_>>>()?;
+    let settings = MethodSettings {
+        dt: Some(1.0),
+        order: 4,
+        rtol: 1e-10,
+        atol: None,
+        torque: false,
+        rotors: !rotors.is_empty(),
+    };
+    let run = Simulation {
+        method: Method::from_name("rk4", &settings).map_err(CoreError)?,
+        t0: 0.0,
+        with_orientation: false,
+        max_steps: 1,
+        torque: None,
+        parallel: false,
+        rotors,
+    };
+    polhode::simulation::simulate(
+        &run,
+        &bodies,
+        &rows3(&omega_data),
+        &[UnitQuaternion::identity()],
+        &[0.0],
+        None,
+    )
+    .map_err(CoreError)?;
+    Ok(())
+}
+
 /// The outputs by name; a single body drops the leading N.
 fn to_dict<'py>(
     py: Python<'py>,
