@@ -622,7 +622,7 @@ def _spin(args: argparse.Namespace) -> int:
             assert a.nutation_time_constant is not None
             print(
                 f"nutation rate      {a.nutation_rate:.9g}   (the damper's, linearised: "
-                f"{'decays' if a.nutation_rate < 0 else 'grows'} by e every "
+                f"{'decays' if a.nutation_rate < 0 else 'grows'}, e-folding time "
                 f"{a.nutation_time_constant:.6g})"
             )
         print("rotors:")
