@@ -50,6 +50,7 @@ import polhode
 from polhode import _core
 from polhode._coerce import as_integer, as_scalar
 from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
+from polhode.rotors import as_rotors
 from polhode.simulation import OUTPUTS, Trajectory, _as_float_array
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
@@ -132,8 +133,9 @@ class DaskTrajectory:
         Angular momentum in body axes.
     energy : (N, M) dask.array.Array
         Rotational kinetic energy.
-    rotor_rates : None
-        Always None: polhode.dask does not take rotors.
+    rotor_rates : (N, M, R, 3) dask.array.Array or None
+        With R rotors, each rotor's angular velocity relative to the body (body axes); None
+        without rotors.
     moments : (N, 3) dask.array.Array
         Principal moments.
     steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
@@ -477,6 +479,7 @@ def simulate(
     *,
     orientation0: Any = None,
     chunks: int | None = None,
+    rotors: Any = None,
     **options: Any,
 ) -> DaskTrajectory:
     """:func:`polhode.simulate` of N bodies, block by block along N (lazy).
@@ -495,6 +498,10 @@ def simulate(
     chunks : int, optional
         Bodies per block. Default: the row chunks of the first dask input; for numpy inputs,
         blocks whose output is about dask's ``array.chunk-size`` (128 MiB).
+    rotors : sequence of polhode.rotors rotors, optional
+        The same wheels and dampers inside every body, as in :func:`polhode.simulate` (each
+        body's moments include them, locked); the trajectory then has ``rotor_rates``, and its
+        angular momentum and energy are the totals.
     **options
         Every other keyword of :func:`polhode.simulate` (``method``, ``dt``, ``order``, ``rtol``,
         ``atol``, ``torque``, ``t0``, ``orientation``, ``max_steps``).
@@ -524,11 +531,21 @@ def simulate(
     >>> alone = ph.simulate([1.0, 2.0, 3.0], omega0.compute(), np.linspace(0.0, 10.0, 5))
     >>> bool(np.array_equal(sol.omega, alone.omega))  # the numbers of one call, bit for bit
     True
+
+    The same damper inside every body: ``rotor_rates`` is a dask array too.
+
+    >>> damper = ph.rotors.SphericalDamper(0.2, 0.1)
+    >>> damped = phd.simulate([1.0, 4.0, 5.0], omega0, np.linspace(0.0, 10.0, 5),
+    ...                       rotors=[damper])
+    >>> damped.method, damped.rotor_rates.shape
+    ('dop853', (6, 5, 1, 3))
     """
     moments = _as_input("body", body)
     omega0 = _as_input("omega0", omega0)
     n = _rows(moments, omega0)
     shared, per_body, stack = _orientation_input(orientation0, n)
+    if rotors is not None:
+        options = {**options, "rotors": as_rotors(rotors)}
     # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
     dry_orientation = shared if per_body is None else np.zeros((0, *per_body.shape[1:]))
     dry = polhode.simulate(
@@ -538,14 +555,18 @@ def simulate(
     if any(isinstance(a, np.ndarray) for a in (moments, omega0, per_body)):
         t0 = options.get("t0", 0.0)
         per_body_now = per_body if isinstance(per_body, np.ndarray) and not stack else None
+        rotors_now = options.get("rotors") if isinstance(moments, np.ndarray) else None
         polhode.simulate(
             moments if isinstance(moments, np.ndarray) else np.ones(3),
             omega0 if isinstance(omega0, np.ndarray) else np.zeros((n, 3)),
             [t0],
             orientation0=shared if per_body_now is None else per_body_now,
             t0=t0,
-            method="exact",
+            # With rotors and numpy moments, that the rotors fit inside each body (dop853
+            # takes no step to t0).
+            method="dop853" if rotors_now else "exact",
             orientation=options.get("orientation", True),
+            rotors=rotors_now,
         )
     dtype = _record_dtype(dry)
     row_chunks = _row_chunks(chunks, n, dtype.itemsize, moments, omega0, per_body)
