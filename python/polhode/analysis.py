@@ -264,10 +264,10 @@ def analyze(
     >>> damper = ph.rotors.SphericalDamper(0.2, 0.1)
     >>> settles = ph.analyze([1.0, 4.0, 5.0], [0.01, 0.01, 2.0], rotors=[damper])
     >>> round(settles.nutation_rate, 5), round(settles.nutation_time_constant, 3)
-    (-0.04163, 24.021)
+    (-0.04163, 24.024)
     >>> tips = ph.analyze([1.0, 4.0, 5.0], [2.0, 0.01, 0.01], rotors=[damper])
     >>> round(tips.nutation_rate, 5), round(tips.nutation_time_constant, 3)
-    (0.03314, 30.175)
+    (0.03314, 30.179)
     """
     if rtol is not None:
         rtol = as_scalar("rtol", rtol)
