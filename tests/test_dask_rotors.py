@@ -93,3 +93,23 @@ def test_rotors_that_do_not_fit_a_body_name_it(bodies):
 def test_without_rotors_there_are_no_rotor_rates(bodies):
     moments, omega0 = bodies
     assert phd.simulate(moments, omega0, T).rotor_rates is None
+
+
+def test_analyze_with_a_damper_equals_analyze_per_body(bodies):
+    moments, omega0 = bodies
+    damper = SphericalDamper(0.05, 0.02)
+    got = phd.analyze(da.from_array(moments, chunks=10), omega0, rotors=[damper]).compute()
+    for k in range(N):
+        a = ph.analyze(moments[k], omega0[k], rotors=[damper])
+        assert got.nutation_rate[k] == a.nutation_rate
+        assert got.nutation_time_constant[k] == a.nutation_time_constant
+        assert got.regime[k] == a.regime
+    plain = phd.analyze(moments, omega0).compute()
+    assert np.isnan(plain.nutation_rate).all() and np.isnan(plain.nutation_time_constant).all()
+    # Wheels give no rate: NaN, as None in polhode.Analysis.
+    wheels = phd.analyze(moments, omega0, rotors=ROTORS[:1]).compute()
+    assert np.isnan(wheels.nutation_rate).all()
+    small = moments.copy()
+    small[4] = [0.04, 1.0, 1.0]
+    with pytest.raises(ph.ArgumentError, match=r"^body 4: .*`rotors`"):
+        phd.analyze(small, omega0, rotors=[damper])

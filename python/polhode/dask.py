@@ -221,6 +221,9 @@ class DaskAnalysis:
     linearized_axis : (N,) int64
     linearized_kind : (N,) str
     linearized_rate : (N,) float
+    nutation_rate, nutation_time_constant : (N,) float
+        With ``rotors=[damper]``, the damper's rate and time constant; NaN where not defined
+        (without a damper, and as in :class:`polhode.Analysis`).
 
     Examples
     --------
@@ -248,6 +251,8 @@ class DaskAnalysis:
     linearized_axis: Any
     linearized_kind: Any
     linearized_rate: Any
+    nutation_rate: Any
+    nutation_time_constant: Any
 
     def compute(self, **kwargs: Any) -> DaskAnalysis:
         """The same analysis with numpy arrays (every block runs once)."""
@@ -617,6 +622,8 @@ _ANALYSIS_DTYPE = np.dtype(
         ("linearized_axis", np.int64),
         ("linearized_kind", f"U{_REGIME_WIDTH}"),
         ("linearized_rate", np.float64),
+        ("nutation_rate", np.float64),
+        ("nutation_time_constant", np.float64),
     ]
 )
 
@@ -627,6 +634,7 @@ def _analyze_block(
     omega0: NDArray[np.float64],
     *,
     rtol: float | None,
+    rotors: Any,
 ) -> NDArray[Any]:
     records = np.empty(moments.shape[0], dtype=_ANALYSIS_DTYPE)
     # Many short calls, none long enough to be watched: the block looks for cancel_all itself.
@@ -635,7 +643,7 @@ def _analyze_block(
         if k % _ANALYZE_LOOK_EVERY == 0 and k and _core.cancel_epoch() != epoch:
             raise CancelledError("polhode.cancel_all() stopped this block.")
         try:
-            a = polhode.analyze(moments[k], omega0[k], rtol)
+            a = polhode.analyze(moments[k], omega0[k], rtol, rotors=rotors)
         except PolhodeError as error:
             raise error.for_body(int(rows[k])) from error
         strings = (a.regime, a.linearized["kind"], *a.axis_stability)
@@ -656,17 +664,25 @@ def _analyze_block(
             a.linearized["axis"],
             a.linearized["kind"],
             a.linearized["rate"],
+            np.nan if a.nutation_rate is None else a.nutation_rate,
+            np.nan if a.nutation_time_constant is None else a.nutation_time_constant,
         )
     return records
 
 
 def analyze(
-    body: Any, omega0: Any, *, rtol: float | None = None, chunks: int | None = None
+    body: Any,
+    omega0: Any,
+    *,
+    rtol: float | None = None,
+    chunks: int | None = None,
+    rotors: Any = None,
 ) -> DaskAnalysis:
     """:func:`polhode.analyze` of N bodies, block by block along N (lazy).
 
     ``body`` and ``omega0`` as in :func:`simulate` (``omega0`` (N, 3); ``body`` (N, 3) or a
-    shared (3,) row; dask or numpy); ``rtol`` as in :func:`polhode.analyze`. Each block
+    shared (3,) row; dask or numpy); ``rtol`` and ``rotors`` (the same in every body) as in
+    :func:`polhode.analyze`. Each block
     analyzes its bodies one by one
     (Python per body, about 20 us), so spreading the blocks over processes pays off here even on
     one machine. ``chunks`` (bodies per block) as in :func:`simulate`.
@@ -697,9 +713,11 @@ def analyze(
                 f"Expected `rtol` to be non-negative and finite, got {rtol}.", argument="rtol"
             )
     n = _rows(moments, omega0)
+    rotors = None if rotors is None else as_rotors(rotors)
     if isinstance(moments, np.ndarray) and isinstance(omega0, np.ndarray):
-        # Numpy values at once, as simulate checks them (no steps).
-        polhode.simulate(moments, omega0, [0.0], method="exact", orientation=False)
+        # Numpy values at once, as simulate checks them (no steps; the rotors inside each body).
+        polhode.simulate(moments, omega0, [0.0], method="dop853" if rotors else "exact",
+                         orientation=False, rotors=rotors)
     row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
     records = da.blockwise(
         _analyze_block,
@@ -715,5 +733,6 @@ def analyze(
         dtype=_ANALYSIS_DTYPE,
         meta=np.empty((0,), dtype=_ANALYSIS_DTYPE),
         rtol=rtol,
+        rotors=rotors,
     )
     return DaskAnalysis(*(_field(records, f.name) for f in fields(DaskAnalysis)))
