@@ -4,7 +4,7 @@
 
 Runs every benchmark of polhode.bench (work-precision on three cases, invariant drift, batch
 throughput, eigensolve, point masses, meshes) in this process and, with ``--criterion``, the
-Rust kernels' criterion benches (`cargo bench -p polhode --bench kernels`). Every number and
+Rust kernels' criterion benches (`cargo bench -p polhode-bench --bench kernels`). Every number and
 every sentence that carries one in the document is written by this script: regenerate it,
 do not edit it by hand. The full run takes about ten minutes on 2 cores.
 """
@@ -152,7 +152,7 @@ def _criterion(out: list[str]) -> None:
             "cargo",
             "bench",
             "-p",
-            "polhode",
+            "polhode-bench",
             "--bench",
             "kernels",
             "--",
@@ -333,7 +333,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         doc += [
             "## The kernels in Rust (criterion)",
             "",
-            "`cargo bench -p polhode --bench kernels -- --warm-up-time 0.5 --measurement-time 2`"
+            "`cargo bench -p polhode-bench --bench kernels -- --warm-up-time 0.5 --measurement-time 2`"
             " (the batch kernels use both cores).",
             "",
         ]

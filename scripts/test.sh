@@ -68,7 +68,12 @@ step "cargo fmt --check"
 cargo fmt --all -- --check
 
 step "cargo clippy -D warnings"
-cargo clippy --workspace --all-targets -- -D warnings
+# The benchmark crate (criterion) is left out: it is compiled by `cargo bench -p polhode-bench`
+# (benchmarks/report.py --criterion) and would add criterion's dependencies to every run.
+# In the `ci` profile, like the tests: the proc macros and build scripts it compiles are then
+# reused by `cargo test --profile ci` (a check cannot reuse a build's artifacts, but those are
+# built in full by both).
+cargo clippy --profile ci --workspace --exclude polhode-bench --all-targets -- -D warnings
 
 step "cargo test (the core crate, its doctests and the README's Rust examples)"
 cargo test --profile ci

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 import subprocess
 import sys
 
@@ -227,6 +228,25 @@ def test_argparse_errors_are_messages_not_tracebacks(argv):
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     assert "error" in result.stderr
+
+
+def test_a_reader_that_goes_away_ends_the_run_quietly():
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", "1", "1", "1", "--t", "1"]
+    # `polhode ... | head`: the pipe's reader is gone before polhode writes.
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        result = subprocess.run(
+            [sys.executable, "-m", "polhode", *argv],
+            stdout=write,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=60,
+        )
+    finally:
+        os.close(write)
+    assert result.returncode == 141
+    assert result.stderr == ""
 
 
 def test_version_prints_the_package_version(capsys):

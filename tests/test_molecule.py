@@ -413,9 +413,10 @@ def test_from_molecule_reads_ase_atoms_and_files(tmp_path):
         ph.Body.from_molecule(tmp_path / "missing.xyz")
     garbage = tmp_path / "garbage.xyz"
     garbage.write_text("this is not\nan xyz file\n")
-    with pytest.raises(ph.ArgumentError, match="garbage.xyz") as error:
+    with pytest.raises(ph.FileFormatError, match="garbage.xyz") as error:
         ph.Body.from_molecule(garbage)
     assert error.value.argument == "molecule"
+    assert error.value.path == str(garbage)
     with pytest.raises(TypeError, match="molecule"):
         ph.Body.from_molecule(42)
 

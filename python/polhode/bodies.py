@@ -485,9 +485,11 @@ class Body:
             Anything else than the four kinds above.
         FileNotFoundError
             A path that does not exist.
+        polhode.errors.FileFormatError
+            A file ASE cannot read (naming the file; ``argument`` is ``"molecule"``).
         ArgumentError
-            A file ASE cannot read, an RDKit Mol without conformers, an MDAnalysis group
-            without elements, an unknown element.
+            An RDKit Mol without conformers, an MDAnalysis group without elements, an unknown
+            element.
 
         Examples
         --------

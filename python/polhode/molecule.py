@@ -47,7 +47,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_array, as_scalar
-from polhode.errors import ArgumentError, ShapeError
+from polhode.errors import ArgumentError, FileFormatError, ShapeError
 
 if TYPE_CHECKING:
     from polhode.bodies import Body
@@ -220,10 +220,11 @@ def _atoms_of(molecule: Any, format: str | None, conformer: int) -> tuple[list[A
             raise FileNotFoundError(f"No such file: {path!r} (`molecule`).")
         try:
             atoms = ase.io.read(path, index=0, format=format)
-        except Exception as error:
-            raise ArgumentError(
+        except Exception as error:  # ASE's readers raise whatever their parsers do
+            raise FileFormatError(
                 f"Could not read a molecule from {path!r} (`molecule`): {error}",
                 argument="molecule",
+                path=path,
             ) from error
         return list(atoms.get_chemical_symbols()), atoms.get_positions()
     if hasattr(molecule, "GetConformer") and hasattr(molecule, "GetAtoms"):  # RDKit Mol

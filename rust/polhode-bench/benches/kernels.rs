@@ -1,5 +1,5 @@
 //! Criterion benchmarks of the kernels, without Python in the way:
-//! `cargo bench -p polhode --bench kernels`.
+//! `cargo bench -p polhode-bench --bench kernels`.
 //!
 //! One step of each integrator (with and without orientation), the driver `integrate` per step
 //! of each method (with and without orientation and torque), one exact evaluation and one
