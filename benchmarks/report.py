@@ -374,8 +374,8 @@ def main(argv: Sequence[str] | None = None) -> None:
         doc += [
             "## The kernels in Rust (criterion)",
             "",
-            "`cargo bench -p polhode-bench --bench kernels -- --warm-up-time 0.5 --measurement-time 2`"
-            " (the batch kernels use both cores).",
+            "`cargo bench -p polhode-bench --bench kernels -- --warm-up-time 0.5 "
+            "--measurement-time 2` (the batch kernels use both cores).",
             "",
         ]
         _criterion(doc)

@@ -381,3 +381,53 @@ def test_dissipation_plot_draws_the_energy_sink():
     path = [line for line in ax.get_lines() if line.get_gid() == "trajectory"][0]
     x, y, z = path.get_data_3d()
     assert abs(x[0]) > 0.99 * np.sqrt(ell2) and abs(z[-1]) > 0.999 * np.sqrt(ell2)
+
+
+@pytest.mark.parametrize(("moments", "omega0", "axis"), [
+    # Damped about the largest axis: nutation_time_constant is the time constant -1 / rate.
+    ((1.0, 2.0, 3.0), (0.01, 0.0, 1.0), 2),
+    ((2.0, 2.0, 3.0), (0.01, 0.0, 1.0), 2),
+    # Tipped over from the smallest axis: nutation_time_constant is the growth time 1 / rate.
+    ((1.0, 2.0, 3.0), (1.0, 0.001, 0.0), 0),
+])
+def test_analyze_gives_the_damper_time_constant_of_the_simulation(moments, omega0, axis):
+    """analyze(rotors=[damper]): the nutation rate and its e-folding time against the rate
+    fitted from simulate (as test_nutation_rate_against_the_simulation: 1e-4 for decay, 2e-3
+    for growth, where the fit reaches the nonlinear regime)."""
+    damper = SphericalDamper(0.05, 0.02)
+    a = ph.analyze(moments, omega0, rotors=[damper])
+    assert a.nutation_rate == ph.rotors.nutation_rate(moments, omega0, damper)
+    fitted = _fitted_nutation_rate(moments, omega0, damper, 3 / abs(a.nutation_rate), axis)
+    rtol = 1e-4 if axis == 2 else 2e-3
+    assert a.nutation_rate == pytest.approx(fitted, rel=rtol)
+    assert a.nutation_time_constant == pytest.approx(1 / abs(fitted), rel=rtol)
+    assert (a.nutation_rate < 0) == (axis == 2)
+    assert f"nutation_time_constant={a.nutation_time_constant:.6g}" in repr(a)
+    # The free-body entries are those of the body with the damper locked.
+    free = ph.analyze(moments, omega0)
+    assert (free.regime, free.period) == (a.regime, a.period)
+    assert free.nutation_rate is None and "nutation_rate" not in repr(free)
+
+
+def test_analyze_with_rotors_in_the_body_own_axes():
+    """A tensor in non-principal axes: the same rate as nutation_rate of its principal
+    moments with omega0 in those axes; wheels or two dampers give no rate; a damper or a wheel
+    that does not fit is an error naming rotors; no damping, no time constant."""
+    damper = SphericalDamper(0.05, 0.02)
+    omega0 = np.array([0.05, 0.1, 1.0])
+    p = ph.principal(TENSOR)
+    a = ph.analyze(TENSOR, omega0, rotors=[damper])
+    expected = ph.rotors.nutation_rate(p.moments, p.axes.T @ omega0, damper)
+    assert a.nutation_rate == pytest.approx(expected, rel=1e-12)
+    assert a.nutation_rate == ph.rotors.nutation_rate(TENSOR, omega0, damper)
+    for rotors in ([damper, damper], [damper, Wheel([0, 0, 1], 0.1)], [Wheel([0, 0, 1], 0.1)]):
+        b = ph.analyze(TENSOR, omega0, rotors=rotors)
+        assert b.nutation_rate is None and b.nutation_time_constant is None
+    loose = ph.analyze(TENSOR, omega0, rotors=[SphericalDamper(0.05, 0.0)])
+    assert loose.nutation_rate == 0.0 and loose.nutation_time_constant is None
+    for rotors in ([SphericalDamper(2.5, 0.1)], [Wheel([1, 0, 0], 3.0)]):
+        with pytest.raises(ph.ArgumentError, match="positive definite") as error:
+            ph.analyze(TENSOR, omega0, rotors=rotors)
+        assert error.value.argument == "rotors"
+    with pytest.raises(TypeError, match="rotors"):
+        ph.analyze(TENSOR, omega0, rotors="damper")

@@ -16,6 +16,7 @@ from polhode._coerce import as_scalar
 from polhode.bodies import Body
 from polhode.errors import ArgumentError, ShapeError
 from polhode.principal_axes import principal
+from polhode.rotors import SphericalDamper, as_rotors, nutation_rate
 from polhode.simulation import _body as _simulation_body
 
 __all__ = ["Analysis", "analyze"]
@@ -75,6 +76,20 @@ class Analysis:
         the other two moments Ia, Ib, Omega_a = w (I - Ib)/Ia and Omega_b = w (I - Ia)/Ib;
         oscillation at sqrt(Omega_a Omega_b) when they share a sign, exponential growth at
         sqrt(-Omega_a Omega_b) otherwise.
+    nutation_rate : float or None
+        With ``rotors=[damper]`` (one :class:`polhode.rotors.SphericalDamper`), the damper's
+        linearised rate: :func:`polhode.rotors.nutation_rate`, a small nutation about the spin
+        axis growing or decaying as ``exp(nutation_rate * t)`` (< 0 about the axis of the
+        largest moment, > 0 about the smallest: the energy sink), in closed form for a body
+        symmetric about the spin axis. None without rotors, and with wheels or several dampers
+        (no closed form or linearisation is given for them).
+    nutation_time_constant : float or None
+        ``1 / |nutation_rate|``, the e-folding time of the nutation: the damper's time
+        constant ``-1 / nutation_rate`` when the spin is damped (``nutation_rate < 0``: the
+        nutation, and ``2 T I3 - |L|^2``, fall by e every ``nutation_time_constant`` and
+        ``nutation_time_constant / 2``), the growth time ``1 / nutation_rate`` when it grows
+        (the spin about the smallest axis). None when ``nutation_rate`` is None or 0 (no
+        damping or no spin: nothing grows or decays).
 
     Examples
     --------
@@ -100,6 +115,8 @@ class Analysis:
     nutation_angle: tuple[float, float] | None
     axis_stability: tuple[str, str, str]
     linearized: dict[str, Any] = field(default_factory=dict)
+    nutation_rate: float | None = None
+    nutation_time_constant: float | None = None
 
     def _summary(self) -> list[tuple[str, str]]:
         linearized = ", ".join(
@@ -124,6 +141,10 @@ class Analysis:
             ),
             ("axis_stability", repr(tuple(self.axis_stability))),
             ("linearized", "{" + linearized + "}"),
+        ] + [
+            (name, _display.number(getattr(self, name)))
+            for name in ("nutation_rate", "nutation_time_constant")
+            if getattr(self, name) is not None  # shown with a damper only
         ]
 
     def __repr__(self) -> str:
@@ -216,9 +237,11 @@ def _principal_frame(
     )
 
 
-def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
+def analyze(
+    body: Any, omega0: Any, rtol: float | None = None, *, rotors: Any = None
+) -> Analysis:
     """Regime, period, flip interval, precession, nutation and axis stability of a torque-free
-    motion.
+    motion; with a damper, its nutation rate and time constant.
 
     ``body`` as in :func:`polhode.simulate` (a single body); ``omega0`` in body axes.
 
@@ -228,6 +251,12 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     given as numbers, gaps up to ``rtol`` times the largest moment (the moments are then
     replaced by their mean, in the result and in the analysis). The regime, the period, the
     precession and the axis stability all describe the same moments.
+
+    ``rotors`` as in :func:`polhode.simulate` (the body's inertia includes them, locked, and
+    they must fit inside it). The free-body entries describe that locked body at ``t0``; with
+    one :class:`polhode.rotors.SphericalDamper` the analysis adds its ``nutation_rate`` and
+    ``nutation_time_constant`` (the energy sink's time constant), None otherwise.
+
     Returns
     -------
     Analysis
@@ -249,6 +278,18 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
     >>> top = ph.analyze([1.0, 1.0, 2.0], [0.1, 0.0, 1.0])
     >>> top.regime, top.precession_rate_body
     ('symmetric', 1.0)
+
+    A spherical damper settles a spin about the largest axis with the time constant
+    ``-1 / nutation_rate``, and tips one about the smallest axis over (growth time
+    ``1 / nutation_rate``):
+
+    >>> damper = ph.rotors.SphericalDamper(0.2, 0.1)
+    >>> settles = ph.analyze([1.0, 4.0, 5.0], [0.01, 0.01, 2.0], rotors=[damper])
+    >>> round(settles.nutation_rate, 5), round(settles.nutation_time_constant, 3)
+    (-0.04163, 24.024)
+    >>> tips = ph.analyze([1.0, 4.0, 5.0], [2.0, 0.01, 0.01], rotors=[damper])
+    >>> round(tips.nutation_rate, 5), round(tips.nutation_time_constant, 3)
+    (0.03314, 30.179)
     """
     if rtol is not None:
         rtol = as_scalar("rtol", rtol)
@@ -263,9 +304,11 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
             f"takes N), got {omega_body.shape}.",
             argument="omega0",
         )
-    # The same checks as simulate (body, positive moments, finite omega0 and energy), in the
-    # core, and nothing else (free_rotation below builds the closed form, with its own checks).
-    _core.check_motion(_simulation_body(body), omega_body)
+    rotors = () if rotors is None else as_rotors(rotors)
+    # The same checks as simulate (body, positive moments, finite omega0 and energy; the rotors
+    # inside the body), in the core, and nothing else (free_rotation below builds the closed
+    # form, with its own checks).
+    _core.check_motion(_simulation_body(body), omega_body, rotors=list(rotors) or None)
     moments, axes = _principal_frame(body, rtol)
     # Ascending moments (a stable sort, as numpy's); Python floats from here on: a small call.
     m = moments.tolist()
@@ -326,6 +369,9 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         "kind": "growth" if growth else "oscillation",
         "rate": rate,
     }
+    damper_rate: float | None = None
+    if len(rotors) == 1 and isinstance(rotors[0], SphericalDamper):
+        damper_rate = nutation_rate(mom, omega, rotors[0])
     # The fields set in one step (a frozen dataclass's __init__ sets each through
     # object.__setattr__): the same object as Analysis(...) with these fields, in their order.
     analysis = object.__new__(Analysis)
@@ -342,5 +388,7 @@ def analyze(body: Any, omega0: Any, rtol: float | None = None) -> Analysis:
         nutation_angle=None if nutation is None else (float(nutation[0]), float(nutation[1])),
         axis_stability=stability,
         linearized=linearized,
+        nutation_rate=damper_rate,
+        nutation_time_constant=None if not damper_rate else 1.0 / abs(damper_rate),
     )
     return analysis

@@ -363,9 +363,11 @@ def _check_plot(path: str) -> None:
     _check_file("--plot", path)
 
 
-def _check_spin(args: argparse.Namespace) -> None:
-    """The combinations argparse cannot check, and the output files, before any work."""
+def _check_spin(args: argparse.Namespace) -> list[ph.rotors.Rotor]:
+    """The combinations argparse cannot check, the rotors and the output files, before any
+    work; returns the rotors (wheels first, then dampers, each in the order given)."""
     method = args.method
+    rotors = _spin_rotors(args)
     if args.dt is not None and method not in FIXED_STEP:
         raise UsageError(
             "--dt",
@@ -376,18 +378,171 @@ def _check_spin(args: argparse.Namespace) -> None:
         raise UsageError("--dt", f"--method {method} takes a fixed step: give --dt.")
     if args.order is not None and method != "splitting":
         raise UsageError("--order", f"applies to --method splitting only, not to {method}.")
-    if args.rtol is not None and method != "dop853":
+    if args.rtol is not None and method != "dop853" and not (method == "auto" and rotors):
         raise UsageError(
             "--rtol",
-            f"applies to --method dop853 only, not to {method}"
-            + (" (the exact solution, without a torque)." if method == "auto" else "."),
+            f"applies to --method dop853 only (what auto picks with --wheel or --damper), not "
+            f"to {method}"
+            + (" (the exact solution, without rotors)." if method == "auto" else "."),
         )
+    if rotors:
+        _check_rotor_method(args, rotors)
     if args.csv is not None:
         _check_file("--csv", args.csv)
     if args.plot is not None:
         _check_plot(args.plot)
         if args.csv is not None and os.path.abspath(args.csv) == os.path.abspath(args.plot):
             raise UsageError("--plot", f"{args.plot!r} is also the --csv file.")
+    return rotors
+
+
+#: ``--wheel AX AY AZ INERTIA [RATE0 [TORQUE]]``: the fields of :class:`polhode.rotors.Wheel`
+#: in order (the torque a constant); ``--damper INERTIA DAMPING``: those of
+#: :class:`polhode.rotors.SphericalDamper`.
+WHEEL_FIELDS = ("ax", "ay", "az", "inertia", "rate0", "torque")
+DAMPER_FIELDS = ("inertia", "damping")
+
+
+class _Group(argparse.Action):
+    """An option taking ``fewest`` to ``len(names)`` numbers, repeatable: one group of numbers
+    (one rotor) per use, appended in order."""
+
+    def __init__(self, *args: Any, names: tuple[str, ...], fewest: int, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.names, self.fewest = names, fewest
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        most = len(self.names)
+        if not self.fewest <= len(values) <= most:
+            optional = self.names[self.fewest :]
+            form = " ".join(n.upper() for n in self.names[: self.fewest])
+            if optional:
+                form += " " + " ".join(f"[{n.upper()}" for n in optional) + "]" * len(optional)
+            count = f"{self.fewest}" if self.fewest == most else f"{self.fewest} to {most}"
+            raise argparse.ArgumentError(
+                self, f"expected {count} numbers ({form}), got {len(values)}."
+            )
+        setattr(namespace, self.dest, [*(getattr(namespace, self.dest) or []), list(values)])
+
+
+def _spin_rotors(args: argparse.Namespace) -> list[ph.rotors.Rotor]:
+    """The rotors of ``--wheel`` and ``--damper`` (wheels first), each checked by the core as
+    it is made: a bad one is a usage error naming its option, its number and its field."""
+    rotors: list[ph.rotors.Rotor] = []
+    for option, groups, make in (
+        ("--wheel", args.wheel, lambda v: ph.rotors.Wheel(v[:3], *v[3:])),
+        ("--damper", args.damper, lambda v: ph.rotors.SphericalDamper(*v)),
+    ):
+        for k, values in enumerate(groups or (), start=1):
+            try:
+                rotors.append(make(values))
+            except ph.PolhodeError as error:
+                numbers = " ".join(f"{v:g}" for v in values)
+                raise UsageError(option, f"{option} {numbers} (number {k}): {error}") from None
+    return rotors
+
+
+def _rotor_option(args: argparse.Namespace) -> str:
+    """The option(s) an error about the rotors as a whole names."""
+    given = [o for o, v in (("--wheel", args.wheel), ("--damper", args.damper)) if v]
+    return " and ".join(given)
+
+
+def _check_rotor_method(args: argparse.Namespace, rotors: list[ph.rotors.Rotor]) -> None:
+    """That ``--method`` takes rotors, as the core says (a run of no body: no work)."""
+    try:
+        _core.simulate(
+            np.zeros((0, 3)),
+            np.zeros((0, 3)),
+            np.zeros(1),
+            method=args.method,
+            dt=args.dt,
+            rotors=rotors,
+        )
+    except ph.PolhodeError as error:
+        if error.argument != "rotors":
+            raise
+        raise UsageError(
+            "--method", f"{args.method} cannot take {_rotor_option(args)}: {error}"
+        ) from None
+
+
+def _rotor_names(rotors: list[ph.rotors.Rotor]) -> list[str]:
+    """``wheel 1``, ``wheel 2``, ``damper 1``, ...: each rotor as the report and the CSV name
+    it."""
+    names, counts = [], {"Wheel": 0, "SphericalDamper": 0}
+    for rotor in rotors:
+        counts[rotor.kind] += 1
+        names.append(f"{'wheel' if rotor.kind == 'Wheel' else 'damper'} {counts[rotor.kind]}")
+    return names
+
+
+def _rotor_report(
+    sol: ph.Trajectory, rotors: list[ph.rotors.Rotor], t_end: float
+) -> list[str]:
+    """The rotors, their rates at the end (relative to the body) and the total energy."""
+    assert sol.rotor_rates is not None
+    lines = []
+    names = _rotor_names(rotors)
+    for name, rotor in zip(names, rotors, strict=True):
+        if isinstance(rotor, ph.rotors.Wheel):
+            axis = rotor.axis / np.linalg.norm(rotor.axis)
+            what = (
+                f"axis {np.array2string(axis, precision=6)}, inertia {rotor.inertia:g}, "
+                f"rate0 {rotor.rate0:g}, torque {rotor.torque:g}"
+            )
+        else:
+            assert isinstance(rotor, ph.rotors.SphericalDamper)
+            what = f"inertia {rotor.inertia:g}, damping {rotor.damping:g}"
+        lines.append(f"  {name:16s} {what}")
+    lines.append(f"rotor rates at t = {t_end:g} (relative to the body, body axes):")
+    for name, rotor, rate in zip(names, rotors, sol.rotor_rates[-1], strict=True):
+        if isinstance(rotor, ph.rotors.Wheel):
+            spin = float(_wheel_rate(rotor, rate))
+            lines.append(f"  {name:16s} {spin:.9g}   (about its axis)")
+        else:
+            lines.append(f"  {name:16s} {rate}")
+    return lines
+
+
+def _wheel_rate(wheel: ph.rotors.Wheel, rate: np.ndarray) -> np.ndarray:
+    """A wheel's rate about its axis from its ``rotor_rates`` vector ``W a`` (a the unit axis),
+    by the largest component of ``a`` (W itself for an axis along a body axis)."""
+    axis = wheel.axis / np.linalg.norm(wheel.axis)
+    k = int(np.argmax(np.abs(axis)))
+    return np.asarray(rate[..., k] / axis[k])
+
+
+def _rotor_columns(rotors: list[ph.rotors.Rotor]) -> list[str]:
+    """The CSV's rotor columns: a wheel's rate about its axis, a damper's relative angular
+    velocity (body axes)."""
+    columns = []
+    for name, rotor in zip(_rotor_names(rotors), rotors, strict=True):
+        stem = name.replace(" ", "")
+        if isinstance(rotor, ph.rotors.Wheel):
+            columns.append(f"{stem}_rate")
+        else:
+            columns += [f"{stem}_rate_x", f"{stem}_rate_y", f"{stem}_rate_z"]
+    return columns
+
+
+def _rotor_values(sol: ph.Trajectory, rotors: list[ph.rotors.Rotor]) -> np.ndarray:
+    """(M, columns) of :func:`_rotor_columns`."""
+    assert sol.rotor_rates is not None
+    parts = []
+    for k, rotor in enumerate(rotors):
+        rate = sol.rotor_rates[:, k]
+        if isinstance(rotor, ph.rotors.Wheel):
+            parts.append(_wheel_rate(rotor, rate)[:, None])
+        else:
+            parts.append(rate)
+    return np.column_stack(parts)
 
 
 def _breaks_triangle(moments: np.ndarray) -> bool:
@@ -397,7 +552,7 @@ def _breaks_triangle(moments: np.ndarray) -> bool:
 
 
 def _spin(args: argparse.Namespace) -> int:
-    _check_spin(args)
+    rotors = _check_spin(args)
     if args.body:
         body: Any = _solid(args.body)
         source = "--body"
@@ -411,6 +566,8 @@ def _spin(args: argparse.Namespace) -> int:
         options["order"] = args.order
     if args.rtol is not None:
         options["rtol"] = args.rtol
+    if rotors:
+        options["rotors"] = rotors
     omega0 = np.array(args.omega, dtype=float)
     times = np.linspace(0.0, args.t, args.points)
     # The option behind each argument an error can name (max_steps: the steps dop853 needed
@@ -422,9 +579,10 @@ def _spin(args: argparse.Namespace) -> int:
         "dt": "--dt",
         "rtol": "--rtol",
         "max_steps": "--t",
+        "rotors": _rotor_option(args),
     }
     try:
-        a = ph.analyze(body, omega0)
+        a = ph.analyze(body, omega0, rotors=rotors or None)
         started = time.perf_counter()
         sol = ph.simulate(body, omega0, times, **options)
         elapsed = time.perf_counter() - started
@@ -443,7 +601,7 @@ def _spin(args: argparse.Namespace) -> int:
     np.set_printoptions(precision=6, suppress=True)
     print(f"principal moments  {a.moments}")
     if rest:
-        print("regime             rest (omega0 = 0: the body stays at rest)")
+        print(f"regime             rest (omega0 = 0{'' if rotors else ': the body stays at rest'})")
     else:
         print(f"regime             {a.regime}; axis stability {', '.join(a.axis_stability)}")
     if a.period is not None:
@@ -458,18 +616,59 @@ def _spin(args: argparse.Namespace) -> int:
         lo, hi = np.degrees(a.nutation_angle)
         angle = f"{lo:.6g} deg" if lo == hi else f"{lo:.6g} to {hi:.6g} deg"
         print(f"nutation angle     {angle}")
+    if rotors:
+        print("(the regime, period and precession above are those of the free body with its")
+        print(" rotors locked, at t = 0; the rotors change the motion)")
+        if a.nutation_rate is not None:
+            assert a.nutation_time_constant is not None
+            print(
+                f"nutation rate      {a.nutation_rate:.9g}   (the damper's, linearised: "
+                f"{'decays' if a.nutation_rate < 0 else 'grows'}, e-folding time "
+                f"{a.nutation_time_constant:.6g})"
+            )
+        print("rotors:")
+        print("\n".join(_rotor_report(sol, rotors, args.t)))
     print(f"omega at t = {args.t:g}  {sol.omega[-1]}")
     print(
         f"method {sol.stats['method']}: {sol.stats['steps']} steps, "
         f"{sol.stats['evaluations']} evaluations, {elapsed * 1e3:.2f} ms"
     )
     drift = max_relative_drift(sol)
-    if rest:
+    # A damper takes energy and a motor gives or takes it: T is then not an invariant.
+    dampers = [
+        name
+        for name, r in zip(_rotor_names(rotors), rotors, strict=True)
+        if isinstance(r, ph.rotors.SphericalDamper) and r.damping > 0
+    ]
+    motors = [
+        f"the motor of {name}"
+        for name, r in zip(_rotor_names(rotors), rotors, strict=True)
+        if isinstance(r, ph.rotors.Wheel) and r.torque != 0
+    ]
+    if rest and not rotors:
         # T, |L| and L are all zero: the drift is the absolute error (polhode.invariants).
         print("invariant drift (max absolute error over the run; at rest all are zero):")
+    elif rotors:
+        zero = sol.energy[0] == 0.0 or not np.any(sol.angular_momentum_body[0])
+        what = "max error over the run, absolute where zero at t = 0" if zero else (
+            "max relative error over the run"
+        )
+        print(f"invariant drift ({what}; totals, rotors included):")
     else:
         print("invariant drift (max relative error over the run):")
-    print(f"  energy T         {drift['energy']:.2e}")
+    if dampers or motors:
+        energy = sol.energy
+        print(
+            f"  energy T         {energy[0]:.9g} -> {energy[-1]:.9g}   (not an invariant: "
+            f"changed by {', '.join(dampers + motors)})"
+        )
+        if not motors:
+            # dT/dt = -c |s - w|^2: a rise is the integration's error.
+            rise = float(np.max(np.diff(energy), initial=0.0)) / abs(float(energy[0]) or 1.0)
+            print(f"                   falls monotonically: largest rise between outputs "
+                  f"{rise:.2e} of T(0)")
+    else:
+        print(f"  energy T         {drift['energy']:.2e}")
     print(f"  |L|              {drift['angular_momentum_norm']:.2e}")
     print(f"  L in space       {drift['angular_momentum_space']:.2e}")
     if args.plot:
@@ -477,8 +676,13 @@ def _spin(args: argparse.Namespace) -> int:
     if args.csv:
         with open(args.csv, "w", newline="") as handle:
             writer = csv.writer(handle)
-            writer.writerow(["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"])
-            for row in np.column_stack([sol.t, sol.omega, sol.quaternion]):
+            header = ["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"]
+            columns = [sol.t, sol.omega, sol.quaternion]
+            if rotors:
+                header += _rotor_columns(rotors)
+                columns.append(_rotor_values(sol, rotors))
+            writer.writerow(header)
+            for row in np.column_stack(columns):
                 writer.writerow([repr(float(x)) for x in row])
         print(f"trajectory written to {args.csv}")
     return 0
@@ -964,7 +1168,8 @@ def _parser() -> argparse.ArgumentParser:
     spin = commands.add_parser(
         "spin",
         help="simulate one torque-free body and report its motion and invariant drift",
-        description="Simulate one torque-free body. Give --moments or --body.",
+        description="Simulate one torque-free body, optionally with internal rotors (--wheel, "
+        "--damper). Give --moments or --body.",
     )
     source = spin.add_mutually_exclusive_group(required=True)
     source.add_argument(
@@ -1013,7 +1218,36 @@ def _parser() -> argparse.ArgumentParser:
         type=_number("a finite tolerance between 0 and 1", positive=True, below=1.0),
         help="relative tolerance of --method dop853 (default 1e-10)",
     )
-    spin.add_argument("--csv", help="write t, omega and the quaternion (xyzw) to this file")
+    spin.add_argument(
+        "--wheel",
+        action=_Group,
+        nargs="+",
+        type=_number("a finite number (a wheel's axis, inertia, rate0 or torque)"),
+        names=WHEEL_FIELDS,
+        fewest=4,
+        metavar="NUMBER",
+        help="a reaction wheel, AX AY AZ INERTIA [RATE0 [TORQUE]]: its axis in body axes, its "
+        "axial inertia, its rate relative to the body at t = 0 (default 0) and a constant "
+        "motor torque on it (default 0); repeatable. The body's moments include it, locked",
+    )
+    spin.add_argument(
+        "--damper",
+        action=_Group,
+        nargs=2,
+        type=_number("a finite number (a damper's inertia or damping)"),
+        names=DAMPER_FIELDS,
+        fewest=2,
+        metavar=("INERTIA", "DAMPING"),
+        help="a spherical (Kane) damper: the sphere's inertia and the viscous coefficient; "
+        "repeatable. The body's moments include it, locked. With rotors --method is auto "
+        "(dop853), dop853 or rk4",
+    )
+    spin.add_argument(
+        "--csv",
+        help="write t, omega and the quaternion (xyzw) to this file, and each rotor's rate "
+        "relative to the body (a wheel's about its axis: wheel1_rate; a damper's vector: "
+        "damper1_rate_x, _y, _z)",
+    )
     spin.add_argument("--plot", help="write omega and the invariant drift to this image (.png)")
     spin.set_defaults(run=_spin)
     audit_parser = commands.add_parser(

@@ -50,6 +50,7 @@ import polhode
 from polhode import _core
 from polhode._coerce import as_integer, as_scalar
 from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
+from polhode.rotors import as_rotors
 from polhode.simulation import OUTPUTS, Trajectory, _as_float_array
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
@@ -132,8 +133,9 @@ class DaskTrajectory:
         Angular momentum in body axes.
     energy : (N, M) dask.array.Array
         Rotational kinetic energy.
-    rotor_rates : None
-        Always None: polhode.dask does not take rotors.
+    rotor_rates : (N, M, R, 3) dask.array.Array or None
+        With R rotors, each rotor's angular velocity relative to the body (body axes); None
+        without rotors.
     moments : (N, 3) dask.array.Array
         Principal moments.
     steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
@@ -219,6 +221,9 @@ class DaskAnalysis:
     linearized_axis : (N,) int64
     linearized_kind : (N,) str
     linearized_rate : (N,) float
+    nutation_rate, nutation_time_constant : (N,) float
+        With ``rotors=[damper]``, the damper's rate and time constant; NaN where not defined
+        (without a damper, and as in :class:`polhode.Analysis`).
 
     Examples
     --------
@@ -246,6 +251,8 @@ class DaskAnalysis:
     linearized_axis: Any
     linearized_kind: Any
     linearized_rate: Any
+    nutation_rate: Any
+    nutation_time_constant: Any
 
     def compute(self, **kwargs: Any) -> DaskAnalysis:
         """The same analysis with numpy arrays (every block runs once)."""
@@ -477,6 +484,7 @@ def simulate(
     *,
     orientation0: Any = None,
     chunks: int | None = None,
+    rotors: Any = None,
     **options: Any,
 ) -> DaskTrajectory:
     """:func:`polhode.simulate` of N bodies, block by block along N (lazy).
@@ -495,6 +503,10 @@ def simulate(
     chunks : int, optional
         Bodies per block. Default: the row chunks of the first dask input; for numpy inputs,
         blocks whose output is about dask's ``array.chunk-size`` (128 MiB).
+    rotors : sequence of polhode.rotors rotors, optional
+        The same wheels and dampers inside every body, as in :func:`polhode.simulate` (each
+        body's moments include them, locked); the trajectory then has ``rotor_rates``, and its
+        angular momentum and energy are the totals.
     **options
         Every other keyword of :func:`polhode.simulate` (``method``, ``dt``, ``order``, ``rtol``,
         ``atol``, ``torque``, ``t0``, ``orientation``, ``max_steps``).
@@ -524,11 +536,21 @@ def simulate(
     >>> alone = ph.simulate([1.0, 2.0, 3.0], omega0.compute(), np.linspace(0.0, 10.0, 5))
     >>> bool(np.array_equal(sol.omega, alone.omega))  # the numbers of one call, bit for bit
     True
+
+    The same damper inside every body: ``rotor_rates`` is a dask array too.
+
+    >>> damper = ph.rotors.SphericalDamper(0.2, 0.1)
+    >>> damped = phd.simulate([1.0, 4.0, 5.0], omega0, np.linspace(0.0, 10.0, 5),
+    ...                       rotors=[damper])
+    >>> damped.method, damped.rotor_rates.shape
+    ('dop853', (6, 5, 1, 3))
     """
     moments = _as_input("body", body)
     omega0 = _as_input("omega0", omega0)
     n = _rows(moments, omega0)
     shared, per_body, stack = _orientation_input(orientation0, n)
+    if rotors is not None:
+        options = {**options, "rotors": as_rotors(rotors)}
     # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
     dry_orientation = shared if per_body is None else np.zeros((0, *per_body.shape[1:]))
     dry = polhode.simulate(
@@ -538,14 +560,18 @@ def simulate(
     if any(isinstance(a, np.ndarray) for a in (moments, omega0, per_body)):
         t0 = options.get("t0", 0.0)
         per_body_now = per_body if isinstance(per_body, np.ndarray) and not stack else None
+        rotors_now = options.get("rotors") if isinstance(moments, np.ndarray) else None
         polhode.simulate(
             moments if isinstance(moments, np.ndarray) else np.ones(3),
             omega0 if isinstance(omega0, np.ndarray) else np.zeros((n, 3)),
             [t0],
             orientation0=shared if per_body_now is None else per_body_now,
             t0=t0,
-            method="exact",
+            # With rotors and numpy moments, that the rotors fit inside each body (dop853
+            # takes no step to t0).
+            method="dop853" if rotors_now else "exact",
             orientation=options.get("orientation", True),
+            rotors=rotors_now,
         )
     dtype = _record_dtype(dry)
     row_chunks = _row_chunks(chunks, n, dtype.itemsize, moments, omega0, per_body)
@@ -596,6 +622,8 @@ _ANALYSIS_DTYPE = np.dtype(
         ("linearized_axis", np.int64),
         ("linearized_kind", f"U{_REGIME_WIDTH}"),
         ("linearized_rate", np.float64),
+        ("nutation_rate", np.float64),
+        ("nutation_time_constant", np.float64),
     ]
 )
 
@@ -606,6 +634,7 @@ def _analyze_block(
     omega0: NDArray[np.float64],
     *,
     rtol: float | None,
+    rotors: Any,
 ) -> NDArray[Any]:
     records = np.empty(moments.shape[0], dtype=_ANALYSIS_DTYPE)
     # Many short calls, none long enough to be watched: the block looks for cancel_all itself.
@@ -614,7 +643,7 @@ def _analyze_block(
         if k % _ANALYZE_LOOK_EVERY == 0 and k and _core.cancel_epoch() != epoch:
             raise CancelledError("polhode.cancel_all() stopped this block.")
         try:
-            a = polhode.analyze(moments[k], omega0[k], rtol)
+            a = polhode.analyze(moments[k], omega0[k], rtol, rotors=rotors)
         except PolhodeError as error:
             raise error.for_body(int(rows[k])) from error
         strings = (a.regime, a.linearized["kind"], *a.axis_stability)
@@ -635,17 +664,25 @@ def _analyze_block(
             a.linearized["axis"],
             a.linearized["kind"],
             a.linearized["rate"],
+            np.nan if a.nutation_rate is None else a.nutation_rate,
+            np.nan if a.nutation_time_constant is None else a.nutation_time_constant,
         )
     return records
 
 
 def analyze(
-    body: Any, omega0: Any, *, rtol: float | None = None, chunks: int | None = None
+    body: Any,
+    omega0: Any,
+    *,
+    rtol: float | None = None,
+    chunks: int | None = None,
+    rotors: Any = None,
 ) -> DaskAnalysis:
     """:func:`polhode.analyze` of N bodies, block by block along N (lazy).
 
     ``body`` and ``omega0`` as in :func:`simulate` (``omega0`` (N, 3); ``body`` (N, 3) or a
-    shared (3,) row; dask or numpy); ``rtol`` as in :func:`polhode.analyze`. Each block
+    shared (3,) row; dask or numpy); ``rtol`` and ``rotors`` (the same in every body) as in
+    :func:`polhode.analyze`. Each block
     analyzes its bodies one by one
     (Python per body, about 20 us), so spreading the blocks over processes pays off here even on
     one machine. ``chunks`` (bodies per block) as in :func:`simulate`.
@@ -676,9 +713,11 @@ def analyze(
                 f"Expected `rtol` to be non-negative and finite, got {rtol}.", argument="rtol"
             )
     n = _rows(moments, omega0)
+    rotors = None if rotors is None else as_rotors(rotors)
     if isinstance(moments, np.ndarray) and isinstance(omega0, np.ndarray):
-        # Numpy values at once, as simulate checks them (no steps).
-        polhode.simulate(moments, omega0, [0.0], method="exact", orientation=False)
+        # Numpy values at once, as simulate checks them (no steps; the rotors inside each body).
+        polhode.simulate(moments, omega0, [0.0], method="dop853" if rotors else "exact",
+                         orientation=False, rotors=rotors)
     row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
     records = da.blockwise(
         _analyze_block,
@@ -694,5 +733,6 @@ def analyze(
         dtype=_ANALYSIS_DTYPE,
         meta=np.empty((0,), dtype=_ANALYSIS_DTYPE),
         rtol=rtol,
+        rotors=rotors,
     )
     return DaskAnalysis(*(_field(records, f.name) for f in fields(DaskAnalysis)))

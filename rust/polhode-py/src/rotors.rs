@@ -6,18 +6,13 @@ use std::sync::Arc;
 use nalgebra::Vector3;
 use numpy::PyReadonlyArrayDyn;
 use polhode::dynamics::{MotorTorque, RotorFields, RotorSpec};
-use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use crate::errors::CoreError;
-use crate::torque::Raised;
+use crate::torque::{kind_of, PyFields, Raised};
 
-/// A `polhode.rotors` rotor's fields, read by name for the core.
-struct PyFields<'a, 'py> {
-    obj: &'a Bound<'py, PyAny>,
-    raised: &'a Raised,
-}
-
+/// A `polhode.rotors` rotor's fields, read by name for the core (the reader of the torque
+/// models, plus the motor torque).
 impl RotorFields for PyFields<'_, '_> {
     type Error = PyErr;
 
@@ -26,12 +21,11 @@ impl RotorFields for PyFields<'_, '_> {
     }
 
     fn number(&self, name: &str) -> PyResult<Option<f64>> {
-        self.obj.getattr(name)?.extract()
+        self.read_number(name)
     }
 
     fn vector(&self, name: &str) -> PyResult<Option<Vector3<f64>>> {
-        let value: Option<[f64; 3]> = self.obj.getattr(name)?.extract()?;
-        Ok(value.map(Vector3::from))
+        self.read_vector(name)
     }
 
     /// A number (constant), a (K, 2) array of (time, torque) pairs (a schedule), or, when the
@@ -83,16 +77,10 @@ impl RotorFields for PyFields<'_, '_> {
 
 /// The spec of a `polhode.rotors` rotor, dispatched on its `kind` (its class name).
 pub(crate) fn rotor_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<RotorSpec> {
-    let kind: String = obj.getattr("kind").and_then(|k| k.extract()).map_err(|_| {
-        let name = obj
-            .get_type()
-            .name()
-            .map(|n| n.to_string())
-            .unwrap_or_default();
-        PyTypeError::new_err(format!(
-            "Expected `rotors` to hold polhode.rotors rotors (Wheel, SphericalDamper), got {name}."
-        ))
-    })?;
+    let kind = kind_of(
+        obj,
+        "`rotors` to hold polhode.rotors rotors (Wheel, SphericalDamper)",
+    )?;
     RotorSpec::from_fields(&kind, &PyFields { obj, raised })
 }
 

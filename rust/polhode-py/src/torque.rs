@@ -13,10 +13,37 @@ use crate::errors::CoreError;
 /// The first Python exception raised by a torque function, kept to re-raise as it was.
 pub(crate) type Raised = Arc<Mutex<Option<PyErr>>>;
 
-/// A `polhode.torque` model's fields, read by name for the core.
-struct PyFields<'a, 'py> {
-    obj: &'a Bound<'py, PyAny>,
-    raised: &'a Raised,
+/// A Python model's fields (a `polhode.torque` model or a `polhode.rotors` rotor), read by
+/// name for the core: the one reader behind [`Fields`] and `RotorFields`.
+pub(crate) struct PyFields<'a, 'py> {
+    pub(crate) obj: &'a Bound<'py, PyAny>,
+    pub(crate) raised: &'a Raised,
+}
+
+impl PyFields<'_, '_> {
+    /// A number field, None when it holds None.
+    pub(crate) fn read_number(&self, name: &str) -> PyResult<Option<f64>> {
+        self.obj.getattr(name)?.extract()
+    }
+
+    /// A 3-vector field, None when it holds None.
+    pub(crate) fn read_vector(&self, name: &str) -> PyResult<Option<Vector3<f64>>> {
+        let value: Option<[f64; 3]> = self.obj.getattr(name)?.extract()?;
+        Ok(value.map(Vector3::from))
+    }
+}
+
+/// The `kind` of a model (its class name), or a TypeError saying what was `expected`, with the
+/// object's type.
+pub(crate) fn kind_of(obj: &Bound<'_, PyAny>, expected: &str) -> PyResult<String> {
+    obj.getattr("kind").and_then(|k| k.extract()).map_err(|_| {
+        let name = obj
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        PyTypeError::new_err(format!("Expected {expected}, got {name}."))
+    })
 }
 
 impl Fields for PyFields<'_, '_> {
@@ -27,12 +54,11 @@ impl Fields for PyFields<'_, '_> {
     }
 
     fn number(&self, name: &str) -> PyResult<Option<f64>> {
-        self.obj.getattr(name)?.extract()
+        self.read_number(name)
     }
 
     fn vector(&self, name: &str) -> PyResult<Option<Vector3<f64>>> {
-        let value: Option<[f64; 3]> = self.obj.getattr(name)?.extract()?;
-        Ok(value.map(Vector3::from))
+        self.read_vector(name)
     }
 
     fn model(&self, name: &str) -> PyResult<TorqueSpec> {
@@ -47,16 +73,7 @@ impl Fields for PyFields<'_, '_> {
 
 /// The spec of a `polhode.torque` model, dispatched on its `kind` (its class name).
 pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<TorqueSpec> {
-    let kind: String = obj.getattr("kind").and_then(|k| k.extract()).map_err(|_| {
-        let name = obj
-            .get_type()
-            .name()
-            .map(|n| n.to_string())
-            .unwrap_or_default();
-        PyTypeError::new_err(format!(
-            "Expected `torque` to be a polhode.torque model or a callable, got {name}."
-        ))
-    })?;
+    let kind = kind_of(obj, "`torque` to be a polhode.torque model or a callable")?;
     Ok(match kind.as_str() {
         "Function" => {
             // `_call(t, omega, quaternion)` calls the user's function and checks what it

@@ -600,16 +600,10 @@ fn run_dop853<S: System<N>, const N: usize>(
     for i in 0..3 {
         atol[i] = atol_w;
     }
-    let mut settings = Settings {
-        tol: Tolerance {
-            atol,
-            rtol: SVector::<f64, N>::repeat(o.rtol),
-        },
-        first_step: o.first_step,
-        max_step: o.max_step,
-        max_steps: options.max_steps,
+    let tol = Tolerance {
+        atol,
+        rtol: SVector::<f64, N>::repeat(o.rtol),
     };
-    let mut stats = Stats::default();
     let renormalize = |y: &mut SVector<f64, N>, f: &mut SVector<f64, N>| {
         if N == 7 {
             let n = (y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
@@ -619,13 +613,50 @@ fn run_dop853<S: System<N>, const N: usize>(
             }
         }
     };
+    dop853_segments(
+        sys,
+        y0,
+        times,
+        options,
+        o,
+        tol,
+        &ends,
+        renormalize,
+        |k, y| output(col, times[k], y),
+    )
+}
+
+/// `dop853` from `options.t0` over the output `times`, one solve per segment ending at each
+/// of `ends` (the discontinuities inside the run, then the last output time), restarting the
+/// method there with the last step size; `out(k, y)` gets the state at `times[k]`. The one
+/// adaptive loop of the rigid body ([`run_dop853`]) and of the gyrostat
+/// ([`super::rotors::integrate_gyrostat`]), reporting each evaluation to the monitor.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dop853_segments<S: System<N>, const N: usize>(
+    sys: &S,
+    y0: SVector<f64, N>,
+    times: &[f64],
+    options: &Options,
+    o: &Dop853Options,
+    tol: Tolerance<N>,
+    ends: &[f64],
+    renormalize: impl Fn(&mut SVector<f64, N>, &mut SVector<f64, N>) + Copy,
+    mut out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
+) -> Result<Stats> {
+    let mut settings = Settings {
+        tol,
+        first_step: o.first_step,
+        max_step: o.max_step,
+        max_steps: options.max_steps,
+    };
+    let mut stats = Stats::default();
     let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
     let watched = Watched {
         sys,
         progress: &progress,
     };
     let (mut t, mut y, mut first) = (options.t0, y0, 0);
-    for end in ends {
+    for &end in ends {
         let last = first + times[first..].partition_point(|&x| x <= end);
         let (y_end, h) = dop853::solve(
             &watched,
@@ -635,7 +666,7 @@ fn run_dop853<S: System<N>, const N: usize>(
             &times[first..last],
             &settings,
             renormalize,
-            |k, y| output(col, times[first + k], y),
+            |k, y| out(first + k, y),
             &mut stats,
         )?;
         settings.first_step = h;

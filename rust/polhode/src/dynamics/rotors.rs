@@ -34,8 +34,10 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
-use super::dop853::{self, Settings, Tolerance};
-use super::driver::{check_method, check_times, segments, substeps, Method, Options, Stats};
+use super::dop853::Tolerance;
+use super::driver::{
+    check_method, check_times, dop853_segments, segments, substeps, Method, Options, Stats,
+};
 use super::monitor::{Monitor, Progress};
 use super::state::{quaternion_rate, State};
 use super::system::System;
@@ -584,20 +586,6 @@ impl<const N: usize> System<N> for Field<'_> {
     }
 }
 
-/// A vector field that ticks a [`Progress`] at each evaluation.
-struct Watched<'s, 'p, S> {
-    sys: &'s S,
-    progress: &'s Progress<'p>,
-}
-
-impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
-    #[inline]
-    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
-        self.progress.spend(1, || t)?;
-        self.sys.rhs(segment, t, y)
-    }
-}
-
 /// The states of a body with rotors at the output times (principal axes).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GyrostatTrajectory {
@@ -912,7 +900,7 @@ fn adaptive<S: System<N>, const N: usize>(
     o: &super::Dop853Options,
     tol: Tolerance<N>,
     breaks: &[f64],
-    mut out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
+    out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
 ) -> Result<Stats> {
     let t_last = times.last().copied().unwrap_or(options.t0);
     let mut ends: Vec<f64> = breaks
@@ -921,35 +909,5 @@ fn adaptive<S: System<N>, const N: usize>(
         .filter(|&b| b > options.t0 && b < t_last)
         .collect();
     ends.push(t_last);
-    let mut settings = Settings {
-        tol,
-        first_step: o.first_step,
-        max_step: o.max_step,
-        max_steps: options.max_steps,
-    };
-    let mut stats = Stats::default();
-    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
-    let watched = Watched {
-        sys,
-        progress: &progress,
-    };
-    let (mut t, mut y, mut first) = (options.t0, y0, 0);
-    for end in ends {
-        let last = first + times[first..].partition_point(|&x| x <= end);
-        let (y_end, h) = dop853::solve(
-            &watched,
-            t,
-            &y,
-            end,
-            &times[first..last],
-            &settings,
-            renormalize,
-            |k, y| out(first + k, y),
-            &mut stats,
-        )?;
-        settings.first_step = h;
-        (t, y, first) = (end, y_end, last);
-    }
-    progress.finish(t);
-    Ok(stats)
+    dop853_segments(sys, y0, times, options, o, tol, &ends, renormalize, out)
 }
