@@ -246,6 +246,52 @@ def test_far_offset_keeps_the_moments(exponent):
     assert np.linalg.norm(body.center_of_mass - shift - base.center_of_mass) <= 1e-15 * d
 
 
+def bipyramid(n, h=0.7):
+    """A closed bipyramid over an irregular n-gon: 2n outward triangles (2 mod 4 for odd n, so
+    that the last row of four lanes is partial), vertices on a 2^-20 grid."""
+    rng = np.random.default_rng(n)
+    angles = np.sort(rng.uniform(0.0, 2 * np.pi, n))
+    radius = rng.uniform(0.8, 1.2, n)
+    ring = np.stack([radius * np.cos(angles), radius * np.sin(angles), rng.uniform(-0.1, 0.1, n)])
+    v = np.vstack([ring.T, [[0.0, 0.0, h], [0.0, 0.0, -h]]])
+    v = np.round(v * 2.0**20) / 2.0**20
+    i = np.arange(n)
+    j = (i + 1) % n
+    top, bottom = np.full(n, n), np.full(n, n + 1)
+    return v, np.vstack([np.stack([i, j, top], 1), np.stack([j, i, bottom], 1)])
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e6])
+@pytest.mark.parametrize("n", [3, 5, 2051])
+def test_partial_lanes_and_chunks_match_exact_rational_integrals(n, offset):
+    # 6 and 10 triangles: one block, its last row of lanes partial; 4102: a whole chunk of
+    # 4096 and a tail of six. The offset (exact on the grid) moves the mesh far away.
+    v, f = bipyramid(n)
+    v = v + np.array([offset, -offset, 0.5 * offset])
+    mass, com, second = exact_mesh(v, f)
+    body = ph.Body.mesh(v, f, density=1.0)
+    assert body.mass == pytest.approx(mass, rel=1e-14)
+    np.testing.assert_allclose(body.center_of_mass, com, rtol=1e-15, atol=1e-15)
+    assert rel(body.second_moment, second) <= (1e-14 if offset == 0 else 1e-12)
+
+
+@pytest.mark.parametrize("n", [3, 2051])
+def test_open_shell_with_an_odd_count_matches_a_numpy_reference(n):
+    # A bipyramid without its last face: 2n - 1 triangles (an odd tail of lanes).
+    v, f = bipyramid(n)
+    f = f[:-1]
+    a, b, c = (v[f[:, k]] for k in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    s = a + b + c
+    total = area.sum()
+    com = (area[:, None] * s).sum(0) / (3 * total)
+    outer = sum(np.einsum("n,ni,nj->ij", area, x, x) for x in (a, b, c, s)) / 12
+    second = outer / total - np.outer(com, com)
+    body = ph.Body.mesh(v, f, mass=1.0, shell=True)
+    np.testing.assert_allclose(body.center_of_mass, com, rtol=0, atol=1e-14)
+    assert rel(body.second_moment, second) <= 1e-13
+
+
 # ---------------------------------------------------------------------------------------------
 # Thin shells
 # ---------------------------------------------------------------------------------------------
@@ -376,6 +422,26 @@ def test_bad_meshes_raise_naming_the_argument(make, match):
     v, f = make()
     with pytest.raises(ph.PolhodeError, match=match):
         ph.Body.mesh(v, f, density=1.0)
+
+
+def test_the_first_bad_row_is_named_across_parallel_chunks():
+    # 20480 faces and 10242 vertices: five chunks of 4096 each, scanned in parallel.
+    v, f = icosphere(5)
+    bad = f.copy()
+    bad[15000, 0] = -1
+    bad[9000, 1] = len(v)
+    with pytest.raises(ph.PolhodeError, match=r"`faces\[9000, 1\]`.*out of range"):
+        ph.Body.mesh(v, bad, density=1.0)
+    bad = f.copy()
+    bad[13000] = [7, 7, 8]
+    bad[12000] = [5, 6, 5]
+    with pytest.raises(ph.PolhodeError, match=r"`faces\[12000\]`.*repeats a vertex"):
+        ph.Body.mesh(v, bad, density=1.0)
+    nan = v.copy()
+    nan[9000, 0] = np.inf
+    nan[5000, 2] = np.nan
+    with pytest.raises(ph.PolhodeError, match=r"`vertices\[5000, 2\]`.*finite"):
+        ph.Body.mesh(nan, f, density=1.0)
 
 
 def test_fix_winding_reverses_an_inside_out_mesh():

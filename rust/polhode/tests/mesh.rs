@@ -514,3 +514,31 @@ fn a_cancel_stops_a_mesh_at_any_look_and_watching_changes_no_bit() {
         }
     }
 }
+
+#[test]
+fn the_result_has_the_same_bits_for_any_number_of_threads() {
+    // 81920 faces off the origin: twenty chunks of the integrals, each of sixteen-triangle
+    // blocks in four lanes, and the closedness check's vertex ranges, on pools of 1, 2, 3 and
+    // 8 threads.
+    let (v, f) = icosphere(6, 1.3);
+    let v: Vec<[f64; 3]> = v
+        .iter()
+        .map(|p| [p[0] + 1e3, p[1] - 2e3, p[2] + 0.5])
+        .collect();
+    for shell in [false, true] {
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| MassProperties::mesh(&v, &f, Some(1.0), None, shell, false).unwrap())
+        };
+        let one = run(1);
+        for threads in [2, 3, 8] {
+            let other = run(threads);
+            assert_eq!(other.mass().to_bits(), one.mass().to_bits(), "{threads}");
+            assert_eq!(other.center_of_mass(), one.center_of_mass(), "{threads}");
+            assert_eq!(other.second_moment(), one.second_moment(), "{threads}");
+        }
+    }
+}

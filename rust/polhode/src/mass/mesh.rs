@@ -6,10 +6,12 @@
 //! its volume is `det / 6` (`det = a . (b x c)`), its first moment `det (a + b + c) / 24` and its
 //! second moment `det (a a^T + b b^T + c c^T + s s^T) / 120` with `s = a + b + c` (Tonon 2004;
 //! Eberly, "Polyhedral mass properties (revisited)"). A triangle of area `A` carries
-//! `A (a + b + c) / 3` and `A (a a^T + b b^T + c c^T + s s^T) / 12`. The sums are compensated
-//! (plain sums over blocks of 16 triangles, the blocks added with TwoSum, chunks combined in
-//! parallel), and the shift from `p` to the centre of mass is small: a mesh 1e8 away from the
-//! origin keeps its digits (docs/architecture.md, Numerics). The check that a solid mesh is
+//! `A (a + b + c) / 3` and `A (a a^T + b b^T + c c^T + s s^T) / 12`. The vertices are taken
+//! relative to `p` once, then the triangles run four at a time in vectorised lanes
+//! (`crate::simd::dispatch`). The sums are compensated (plain sums over blocks of 16 triangles
+//! per lane, the blocks added with TwoSum, fixed chunks combined in parallel and then in order,
+//! lane by lane), and the shift from `p` to the centre of mass is small: a mesh 1e8 away from
+//! the origin keeps its digits (docs/architecture.md, Numerics). The check that a solid mesh is
 //! closed and consistently wound runs beside the integration (`rayon::join`).
 
 use nalgebra::{Matrix3, Vector3};
@@ -21,7 +23,8 @@ use crate::dynamics::Monitor;
 use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
 
-/// Triangles per parallel chunk of the integrals.
+/// Triangles per parallel chunk of the integrals (a multiple of `LANES * BLOCK`): the chunks
+/// are fixed, whatever the number of threads.
 const CHUNK: usize = 1 << 12;
 
 /// Triangles (or vertices) between two looks at the monitor in
@@ -34,8 +37,22 @@ fn look(monitor: Option<&Monitor>) -> Result<()> {
     monitor.map_or(Ok(()), Monitor::look)
 }
 
-/// Triangles summed plainly before a compensated add.
+/// Triangles side by side in the vectorised kernel (one per lane).
+const LANES: usize = 4;
+
+/// Triangles summed plainly in each lane before a compensated add.
 const BLOCK: usize = 16;
+
+/// One value per lane.
+type Lanes = [f64; LANES];
+
+/// `TwoSum`, inlined into the vectorised kernel.
+#[inline(always)]
+fn two_sum_inline(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
 
 /// The ten integrals `[w, w s, w q]` (weight, first moment, second moment xx yy zz xy xz yz)
 /// as compensated sums `hi + lo`, plus `sum |w|` (the scale for the zero-volume test).
@@ -53,17 +70,6 @@ impl Sums {
         abs_weight: 0.0,
     };
 
-    /// Adds a block's plain sums `terms` (and its `sum |w|`) with TwoSum.
-    #[inline]
-    fn add(&mut self, terms: &[f64; 10], abs_weight: f64) {
-        for ((hi, lo), &t) in self.hi.iter_mut().zip(&mut self.lo).zip(terms) {
-            let (s, e) = two_sum(*hi, t);
-            *hi = s;
-            *lo += e;
-        }
-        self.abs_weight += abs_weight;
-    }
-
     fn merge(mut self, other: Self) -> Self {
         for k in 0..10 {
             let (s, e) = two_sum(self.hi[k], other.hi[k]);
@@ -79,24 +85,133 @@ impl Sums {
     }
 }
 
-/// `w [1, s, q]` for a simplex with vertices `0, a, b, c` (or `a, b, c`), `s = a + b + c`,
-/// `q = a a^T + b b^T + c c^T + s s^T` (upper triangle).
-#[inline]
-fn terms(w: f64, a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>) -> [f64; 10] {
-    let s = a + b + c;
-    let q = |i: usize, j: usize| a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j];
-    [
-        w,
-        w * s[0],
-        w * s[1],
-        w * s[2],
-        w * q(0, 0),
-        w * q(1, 1),
-        w * q(2, 2),
-        w * q(0, 1),
-        w * q(0, 2),
-        w * q(1, 2),
-    ]
+/// [`Sums`] per lane: lane `l` holds the triangles `LANES j + l` of a chunk.
+#[derive(Clone, Copy)]
+struct LaneSums {
+    hi: [Lanes; 10],
+    lo: [Lanes; 10],
+    abs_weight: Lanes,
+}
+
+impl LaneSums {
+    const ZERO: Self = Self {
+        hi: [[0.0; LANES]; 10],
+        lo: [[0.0; LANES]; 10],
+        abs_weight: [0.0; LANES],
+    };
+
+    /// Adds a block's plain sums `local` (the ten terms, then `sum |w|`) with TwoSum, lane by
+    /// lane.
+    #[inline(always)]
+    fn add(&mut self, local: &[Lanes; 11]) {
+        for ((hi, lo), terms) in self.hi.iter_mut().zip(&mut self.lo).zip(local) {
+            for ((hi, lo), &t) in hi.iter_mut().zip(lo.iter_mut()).zip(terms) {
+                let (s, e) = two_sum_inline(*hi, t);
+                *hi = s;
+                *lo += e;
+            }
+        }
+        for (sum, &t) in self.abs_weight.iter_mut().zip(&local[10]) {
+            *sum += t;
+        }
+    }
+
+    /// Lane `l` as [`Sums`].
+    fn lane(&self, l: usize) -> Sums {
+        Sums {
+            hi: std::array::from_fn(|k| self.hi[k][l]),
+            lo: std::array::from_fn(|k| self.lo[k][l]),
+            abs_weight: self.abs_weight[l],
+        }
+    }
+}
+
+/// The corners `a, b, c` of `LANES` triangles, coordinate by coordinate: `p[corner][axis][lane]`.
+type Corners = [[Lanes; 3]; 3];
+
+/// Adds `w [1, s, q]` and `|w|` of `LANES` triangles to `local`, lane by lane: `w` is the
+/// determinant `a . (b x c)` (six times the signed volume of the tetrahedron `0, a, b, c`) or,
+/// for a shell, `|(b - a) x (c - a)|` (twice the area), `s = a + b + c` and
+/// `q = a a^T + b b^T + c c^T + s s^T` (upper triangle: xx yy zz xy xz yz).
+#[inline(always)]
+fn accumulate<const SHELL: bool>(p: &Corners, local: &mut [Lanes; 11]) {
+    let [a, b, c] = p;
+    for l in 0..LANES {
+        let (ax, ay, az) = (a[0][l], a[1][l], a[2][l]);
+        let (bx, by, bz) = (b[0][l], b[1][l], b[2][l]);
+        let (cx, cy, cz) = (c[0][l], c[1][l], c[2][l]);
+        let w = if SHELL {
+            let (ux, uy, uz) = (bx - ax, by - ay, bz - az);
+            let (vx, vy, vz) = (cx - ax, cy - ay, cz - az);
+            let (nx, ny, nz) = (uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx);
+            (nx * nx + ny * ny + nz * nz).sqrt()
+        } else {
+            ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
+        };
+        let s = [ax + bx + cx, ay + by + cy, az + bz + cz];
+        let q = |i: usize, j: usize| {
+            a[i][l] * a[j][l] + b[i][l] * b[j][l] + c[i][l] * c[j][l] + s[i] * s[j]
+        };
+        let terms = [
+            w,
+            w * s[0],
+            w * s[1],
+            w * s[2],
+            w * q(0, 0),
+            w * q(1, 1),
+            w * q(2, 2),
+            w * q(0, 1),
+            w * q(0, 2),
+            w * q(1, 2),
+            w.abs(),
+        ];
+        for (sum, t) in local.iter_mut().zip(terms) {
+            sum[l] += t;
+        }
+    }
+}
+
+/// The corners of the triangles `row` (at most `LANES`; missing lanes at the origin, which adds
+/// nothing) gathered from `points`.
+#[inline(always)]
+fn gather(points: &[[f64; 3]], row: &[[i64; 3]]) -> Corners {
+    let mut p = [[[0.0; LANES]; 3]; 3];
+    if let Ok(row) = <&[[i64; 3]; LANES]>::try_from(row) {
+        for (l, f) in row.iter().enumerate() {
+            for (corner, &index) in f.iter().enumerate() {
+                let v = points[index as usize];
+                for axis in 0..3 {
+                    p[corner][axis][l] = v[axis];
+                }
+            }
+        }
+    } else {
+        for (l, f) in row.iter().enumerate() {
+            for (corner, &index) in f.iter().enumerate() {
+                let v = points[index as usize];
+                for axis in 0..3 {
+                    p[corner][axis][l] = v[axis];
+                }
+            }
+        }
+    }
+    p
+}
+
+/// The lane sums of one chunk of triangles (corners indexing `points`): plain sums over
+/// blocks of `BLOCK` triangles per lane (error ~ `BLOCK` eps of the block's own terms), the
+/// blocks added with TwoSum. The same IEEE operations in the same order on every CPU (no FMA).
+#[inline(always)]
+fn chunk_sums<const SHELL: bool>(points: &[[f64; 3]], faces: &[[i64; 3]]) -> LaneSums {
+    let mut sums = LaneSums::ZERO;
+    for block in faces.chunks(LANES * BLOCK) {
+        let mut local = [[0.0; LANES]; 11];
+        for row in block.chunks(LANES) {
+            accumulate::<SHELL>(&gather(points, row), &mut local);
+        }
+        sums.add(&local);
+    }
+    sums
 }
 
 fn invalid(name: impl Into<String>, reason: String) -> Error {
@@ -106,15 +221,40 @@ fn invalid(name: impl Into<String>, reason: String) -> Error {
     }
 }
 
+/// Whether any entry of `values` is infinite or NaN (its exponent bits all set), without a
+/// branch per entry.
+#[inline(always)]
+fn any_non_finite(values: &[f64]) -> bool {
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    values.iter().fold(0u64, |bad, x| {
+        bad | u64::from(x.to_bits() & EXPONENT == EXPONENT)
+    }) != 0
+}
+
+/// Whether any triangle of `faces` has an index outside `0..n` or (`solid`) repeats a vertex,
+/// without a branch per triangle.
+#[inline(always)]
+fn any_bad_face(faces: &[[i64; 3]], n: u64, solid: bool) -> bool {
+    faces.iter().fold(0u64, |bad, f| {
+        let range = f.iter().fold(0u64, |r, &i| r | u64::from(i as u64 >= n));
+        let repeat = u64::from(f[0] == f[1]) | u64::from(f[1] == f[2]) | u64::from(f[2] == f[0]);
+        bad | range | (repeat & u64::from(solid))
+    }) != 0
+}
+
 /// Every vertex finite, every index in range (and, for a solid, no face repeating a vertex).
 fn check_input(vertices: &[[f64; 3]], faces: &[[i64; 3]], shell: bool) -> Result<()> {
-    // A parallel scan for the first bad row, then the message for it.
-    let first_bad_vertex = vertices
-        .par_iter()
-        .with_min_len(CHUNK)
-        .position_first(|v| !v.iter().all(|x| x.is_finite()))
-        .unwrap_or(vertices.len());
-    for (i, v) in vertices.iter().enumerate().skip(first_bad_vertex) {
+    // A parallel scan for the first chunk with a bad row, then the message for its first.
+    let first_bad_chunk = vertices
+        .par_chunks(CHUNK)
+        .position_first(|chunk| {
+            crate::simd::dispatch(
+                #[inline(always)]
+                || any_non_finite(chunk.as_flattened()),
+            )
+        })
+        .unwrap_or(vertices.len().div_ceil(CHUNK));
+    for (i, v) in vertices.iter().enumerate().skip(first_bad_chunk * CHUNK) {
         for (k, &x) in v.iter().enumerate() {
             if !x.is_finite() {
                 return Err(Error::NonFinite {
@@ -148,16 +288,16 @@ fn check_input(vertices: &[[f64; 3]], faces: &[[i64; 3]], shell: bool) -> Result
             format!("expected at most 2^31 - 1 vertices, got {n}."),
         ));
     }
-    let bad_face = |f: &[i64; 3]| {
-        f.iter().any(|&index| index < 0 || index as u64 >= n as u64)
-            || (!shell && (f[0] == f[1] || f[1] == f[2] || f[2] == f[0]))
-    };
-    let first_bad_face = faces
-        .par_iter()
-        .with_min_len(CHUNK)
-        .position_first(bad_face)
-        .unwrap_or(faces.len());
-    for (i, f) in faces.iter().enumerate().skip(first_bad_face) {
+    let first_bad_chunk = faces
+        .par_chunks(CHUNK)
+        .position_first(|chunk| {
+            crate::simd::dispatch(
+                #[inline(always)]
+                || any_bad_face(chunk, n as u64, !shell),
+            )
+        })
+        .unwrap_or(faces.len().div_ceil(CHUNK));
+    for (i, f) in faces.iter().enumerate().skip(first_bad_chunk * CHUNK) {
         for (k, &index) in f.iter().enumerate() {
             if index < 0 || index as u64 >= n as u64 {
                 return Err(invalid(
@@ -311,8 +451,9 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize, monitor: Option<&Monito
 /// 1); `None` if the vertices span more than the range of double precision. Looks at `monitor`
 /// before each chunk of triangles.
 ///
-/// Every parallel sum is a fixed tree: per chunk of [`CHUNK`] items, the chunks' sums then added
-/// in order on one thread, so the result does not depend on the number of threads.
+/// Every parallel sum is a fixed tree: per chunk of [`CHUNK`] items (and per lane within a
+/// chunk), the chunks' sums then added in order on one thread, lane by lane, and the lanes
+/// last, so the result does not depend on the number of threads.
 fn integrate(
     vertices: &[[f64; 3]],
     faces: &[[i64; 3]],
@@ -348,39 +489,58 @@ fn integrate(
     let k = e + 1;
     let reference_scaled = reference.map(|x| ldexp(x, -k));
 
-    let vertex =
-        |i: i64| Vector3::from(vertices[i as usize]).map(|x| ldexp(x, -k)) - reference_scaled;
-    let chunks: Vec<Result<Sums>> = faces
+    // Every vertex as `v 2^-k - reference 2^-k`, once (`ldexp(x, -k)` is `x` times two exact
+    // powers of two: the same product here).
+    let clamped = (-k).clamp(-2044, 2046);
+    let (p1, p2) = (ldexp(1.0, clamped / 2), ldexp(1.0, clamped - clamped / 2));
+    let r = [
+        reference_scaled[0],
+        reference_scaled[1],
+        reference_scaled[2],
+    ];
+    let mut points = vec![[0.0; 3]; vertices.len()];
+    points
+        .par_chunks_mut(CHUNK)
+        .zip(vertices.par_chunks(CHUNK))
+        .for_each(|(points, vertices)| {
+            crate::simd::dispatch(
+                #[inline(always)]
+                || {
+                    for (p, v) in points.iter_mut().zip(vertices) {
+                        for axis in 0..3 {
+                            p[axis] = v[axis] * p1 * p2 - r[axis];
+                        }
+                    }
+                },
+            );
+        });
+
+    let chunks: Vec<Result<LaneSums>> = faces
         .par_chunks(CHUNK)
         .map(|chunk| {
             look(monitor)?;
-            let mut sums = Sums::ZERO;
-            // Plain sums over short blocks (error ~ BLOCK eps of the block's own terms),
-            // blocks added with TwoSum.
-            for block in chunk.chunks(BLOCK) {
-                let mut local = [0.0; 10];
-                let mut abs_weight = 0.0;
-                for f in block {
-                    let (a, b, c) = (vertex(f[0]), vertex(f[1]), vertex(f[2]));
-                    let w = if shell {
-                        (b - a).cross(&(c - a)).norm()
-                    } else {
-                        a.dot(&b.cross(&c))
-                    };
-                    for (l, t) in local.iter_mut().zip(terms(w, &a, &b, &c)) {
-                        *l += t;
-                    }
-                    abs_weight += w.abs();
-                }
-                sums.add(&local, abs_weight);
-            }
-            Ok(sums)
+            Ok(if shell {
+                crate::simd::dispatch(
+                    #[inline(always)]
+                    || chunk_sums::<true>(&points, chunk),
+                )
+            } else {
+                crate::simd::dispatch(
+                    #[inline(always)]
+                    || chunk_sums::<false>(&points, chunk),
+                )
+            })
         })
         .collect();
-    let mut sums = Sums::ZERO;
+    // The chunks in order, lane by lane; then the lanes in order.
+    let mut lanes = [Sums::ZERO; LANES];
     for chunk in chunks {
-        sums = sums.merge(chunk?);
+        let chunk = chunk?;
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            *lane = lane.merge(chunk.lane(l));
+        }
     }
+    let sums = lanes.into_iter().fold(Sums::ZERO, Sums::merge);
     Ok(Some((sums, reference, k)))
 }
 
