@@ -17,8 +17,8 @@ const CHUNK: usize = POINT_CHUNK;
 impl MassProperties {
     /// Point masses `masses[i]` at `positions[i]` (body coordinates).
     ///
-    /// One pass over the points: the offsets from the first point `d_i = r_i - r_0` are formed,
-    /// and the rows `[sqrt(m_i), sqrt(m_i) d_i]` factored by Householder QR (in parallel chunks,
+    /// One pass over the points: the offsets `d_i = r_i - r_0` from a reference point (the
+    /// centre of mass of the first 256 points) are formed, and the rows `[sqrt(m_i), sqrt(m_i) d_i]` factored by Householder QR (in parallel chunks,
     /// blocks of 256 rows, vectorised): with the mass column first, the lower-right 3x3 block of
     /// the factor is the square root of the second moments about the centre of mass (the Schur
     /// complement `S2 - S1 S1^T / M`, formed without subtracting squares). Nothing is summed
@@ -77,9 +77,9 @@ impl MassProperties {
             });
         }
         let look = || monitor.map_or(Ok(()), Monitor::look);
-        let reference: Vector3<f64> = positions[0].into();
-        // One pass, per chunk: the first bad point, the sums about the first point, the
-        // largest mass and offset, and the factor of the rows [sqrt(m), sqrt(m) (r - r0)].
+        let reference = block_center(masses, positions);
+        // One pass, per chunk: the first bad point, the sums about the reference, the largest
+        // mass and offset, and the factor of the rows [sqrt(m), sqrt(m) (r - r0)].
         let chunks: Vec<Result<(Scan, [[f64; 4]; 4])>> = masses
             .par_chunks(CHUNK)
             .zip(positions.par_chunks(CHUNK))
@@ -298,6 +298,29 @@ impl MassProperties {
                 ("positions", 2.0 * farthest.log2()),
             ],
         )
+    }
+}
+
+/// The reference point `r0` of the one-pass path: the centre of mass of the first block of
+/// points (found relative to the first point), so that the offsets `r - r0` are of the size
+/// of the cloud, not of a first point far out (the QR's error is eps of the offsets); the first
+/// point itself if that block has a bad value (reported by the pass) or overflows.
+fn block_center<P>(masses: &[f64], positions: &[P]) -> Vector3<f64>
+where
+    P: Copy + Into<Vector3<f64>>,
+{
+    let first: Vector3<f64> = positions[0].into();
+    let (mut mass, mut moment) = (0.0, Vector3::zeros());
+    for (&mi, &ri) in masses.iter().zip(positions).take(QR_BLOCK) {
+        let ri: Vector3<f64> = ri.into();
+        mass += mi;
+        moment += (ri - first) * mi;
+    }
+    let center = first + moment / mass;
+    if mass > 0.0 && center.iter().all(|x| x.is_finite()) {
+        center
+    } else {
+        first
     }
 }
 
