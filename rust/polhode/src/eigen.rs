@@ -8,6 +8,10 @@
 //! ascending, axes a proper rotation with deterministic signs, and inside a degenerate subspace
 //! the frame closest to the body's own axes.
 
+// Lane loops (`for l in 0..L`) index several arrays by the same lane on purpose: that is the
+// shape LLVM vectorises.
+#![allow(clippy::needless_range_loop)]
+
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use nalgebra::{Matrix3, Vector3};
