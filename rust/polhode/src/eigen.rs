@@ -773,8 +773,8 @@ pub fn principal_batch_monitored(
     outcomes.into_iter().collect()
 }
 
-/// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes (two AVX2
-/// registers of four doubles).
+/// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes (one AVX2
+/// register of four doubles; eight measured no faster, the state then spills).
 const LANES: usize = 4;
 
 /// One chunk of the batch, with the widest vector instructions the CPU has
