@@ -774,7 +774,7 @@ pub fn principal_batch_monitored(
 }
 
 /// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes (one AVX2
-/// register of four doubles; eight measured no faster, the state then spills).
+/// register of four doubles; with eight the state of a group spills from the registers).
 const LANES: usize = 4;
 
 /// One chunk of the batch, with the widest vector instructions the CPU has
