@@ -8,6 +8,10 @@
 //! ascending, axes a proper rotation with deterministic signs, and inside a degenerate subspace
 //! the frame closest to the body's own axes.
 
+// Lane loops (`for l in 0..L`) index several arrays by the same lane on purpose: that is the
+// shape LLVM vectorises.
+#![allow(clippy::needless_range_loop)]
+
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use nalgebra::{Matrix3, Vector3};
@@ -196,22 +200,141 @@ pub(crate) fn eigen_symmetric_unchecked(
 /// those returned times `2^k`, which may lie beyond the range of double precision.
 pub(crate) fn eigen_symmetric_scaled(a: &Matrix3<f64>, rtol: f64) -> (Principal, i32) {
     let mut lanes = Lanes::<1>::default();
-    let k = lanes.load(0, a);
+    lanes.load(&[row_major(a)]);
     lanes.solve();
-    (lanes.principal(0, rtol), k)
+    let p = lanes.canonical(rtol);
+    (p.principal(0), lanes.exponent[0] as i32)
 }
 
-/// `L` symmetric tensors solved side by side (`a[r][c][lane]`), so that the divisions and
-/// square roots of independent Jacobi rotations overlap in the pipeline (and in SIMD lanes).
+/// The nine entries of `m`, row by row.
+fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
+    [
+        m[(0, 0)],
+        m[(0, 1)],
+        m[(0, 2)],
+        m[(1, 0)],
+        m[(1, 1)],
+        m[(1, 2)],
+        m[(2, 0)],
+        m[(2, 1)],
+        m[(2, 2)],
+    ]
+}
+
+/// `L` numbers side by side, one per lane (a SIMD register's worth, or two).
+type Lane<const L: usize> = [f64; L];
+
+/// `[f(0), f(1), f(2)]`, inlined (unlike `[T; 3]::map`, whose copy would run without the
+/// dispatched instructions).
+#[inline(always)]
+fn three<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// `f(l)` for every lane.
+#[inline(always)]
+fn lanes<const L: usize>(f: impl FnMut(usize) -> f64) -> Lane<L> {
+    std::array::from_fn(f)
+}
+
+/// `if mask { yes } else { no }`, lane by lane.
+#[inline(always)]
+fn select<const L: usize>(mask: &[bool; L], yes: &Lane<L>, no: &Lane<L>) -> Lane<L> {
+    // On the bits, so that it compiles to a blend in registers (not a masked store).
+    lanes(|l| {
+        let m = u64::from(mask[l]).wrapping_neg();
+        f64::from_bits((yes[l].to_bits() & m) | (no[l].to_bits() & !m))
+    })
+}
+
+/// `2^k` lane by lane, `-1022 <= k <= 1023` (a normal number; built from its bits, so that it
+/// vectorises).
+#[inline(always)]
+fn pow2_lanes<const L: usize>(k: &[i64; L]) -> Lane<L> {
+    lanes(|l| f64::from_bits(((k[l] + 1023) as u64) << 52))
+}
+
+/// The two powers of two whose product [`ldexp`] multiplies by, lane by lane.
+#[inline(always)]
+fn ldexp_factors<const L: usize>(k: &[i64; L]) -> (Lane<L>, Lane<L>) {
+    let k: [i64; L] = std::array::from_fn(|l| k[l].clamp(-2044, 2046));
+    let half: [i64; L] = std::array::from_fn(|l| k[l] / 2);
+    let rest: [i64; L] = std::array::from_fn(|l| k[l] - half[l]);
+    (pow2_lanes(&half), pow2_lanes(&rest))
+}
+
+/// [`exponent`] lane by lane, for finite `x >= 0`.
+#[inline(always)]
+fn exponent_lanes<const L: usize>(x: &Lane<L>) -> [i64; L] {
+    std::array::from_fn(|l| {
+        let subnormal = x[l] < f64::MIN_POSITIVE;
+        // Subnormals scaled into the normal range first (exactly).
+        let y = if subnormal { x[l] * pow2(64) } else { x[l] };
+        let biased = ((y.to_bits() >> 52) & 0x7ff) as i64;
+        let e = biased - 1022 - if subnormal { 64 } else { 0 };
+        if x[l] == 0.0 {
+            0
+        } else {
+            e
+        }
+    })
+}
+
+/// `(x, y, z) / |(x, y, z)|` with one division, lane by lane.
+#[inline(always)]
+fn unit<const L: usize>(v: [Lane<L>; 3]) -> [Lane<L>; 3] {
+    let inverse: Lane<L> =
+        lanes(|l| 1.0 / (v[0][l] * v[0][l] + v[1][l] * v[1][l] + v[2][l] * v[2][l]).sqrt());
+    three(|k| lanes(|l| v[k][l] * inverse[l]))
+}
+
+/// The vector with the sign that makes its largest-magnitude component (the first on a tie)
+/// positive, lane by lane.
+#[inline(always)]
+fn signed<const L: usize>(v: [Lane<L>; 3]) -> [Lane<L>; 3] {
+    let sign: Lane<L> = lanes(|l| {
+        let (a0, a1, a2) = (v[0][l].abs(), v[1][l].abs(), v[2][l].abs());
+        let mut largest = v[0][l];
+        let mut size = a0;
+        if a1 > size {
+            largest = v[1][l];
+            size = a1;
+        }
+        if a2 > size {
+            largest = v[2][l];
+        }
+        if largest < 0.0 {
+            -1.0
+        } else {
+            1.0
+        }
+    });
+    three(|k| lanes(|l| v[k][l] * sign[l]))
+}
+
+/// `a x b`, lane by lane.
+#[inline(always)]
+fn cross<const L: usize>(a: &[Lane<L>; 3], b: &[Lane<L>; 3]) -> [Lane<L>; 3] {
+    [
+        lanes(|l| a[1][l] * b[2][l] - a[2][l] * b[1][l]),
+        lanes(|l| a[2][l] * b[0][l] - a[0][l] * b[2][l]),
+        lanes(|l| a[0][l] * b[1][l] - a[1][l] * b[0][l]),
+    ]
+}
+
+/// `L` symmetric tensors solved side by side, structure of arrays (`a[r][c][lane]`): every lane
+/// performs the same IEEE operations in the same order as a lone tensor would (a rotation a
+/// lane does not need leaves it untouched, bit for bit), so a tensor's result does not depend
+/// on its neighbours, on `L`, or on whether the code was vectorised.
 #[derive(Clone, Copy)]
 struct Lanes<const L: usize> {
-    a: [[[f64; L]; 3]; 3],
-    v: [[[f64; L]; 3]; 3],
-    shift: [f64; L],
-    scale: [f64; L],
-    norm: [f64; L],
+    a: [[Lane<L>; 3]; 3],
+    v: [[Lane<L>; 3]; 3],
+    shift: Lane<L>,
+    scale: Lane<L>,
+    norm: Lane<L>,
     /// The lane holds its tensor times `2^-exponent`.
-    exponent: [i32; L],
+    exponent: [i64; L],
 }
 
 impl<const L: usize> Default for Lanes<L> {
@@ -227,53 +350,96 @@ impl<const L: usize> Default for Lanes<L> {
     }
 }
 
+/// The canonical principal frames of `L` lanes (scaled moments: times `2^exponent`).
+struct CanonicalLanes<const L: usize> {
+    moments: [Lane<L>; 3],
+    /// `axes[r][c]`: row `r` of column (axis) `c`.
+    axes: [[Lane<L>; 3]; 3],
+    multiplicity: [[u8; L]; 3],
+}
+
+impl<const L: usize> CanonicalLanes<L> {
+    fn principal(&self, l: usize) -> Principal {
+        Principal {
+            moments: Vector3::new(self.moments[0][l], self.moments[1][l], self.moments[2][l]),
+            axes: Matrix3::from_fn(|r, c| self.axes[r][c][l]),
+            multiplicity: [0, 1, 2].map(|k| self.multiplicity[k][l]),
+        }
+    }
+}
+
 impl<const L: usize> Lanes<L> {
-    /// Loads tensor `m` into `lane`, shifted by trace/3 and scaled to entries of size <= 1;
-    /// returns `k` with the lane holding `m 2^-k` (its moments come out in units of `2^k`).
+    /// Loads `L` symmetric, finite tensors (row by row; not checked), each shifted by trace/3
+    /// and scaled to entries of size <= 1: lane `l` holds `tensors[l] 2^-exponent[l]`, and its
+    /// moments come out in units of `2^exponent[l]`.
     ///
     /// The power of two first brings the largest entry to [0.5, 1), exactly (but for
     /// subnormal entries far below the largest, whose rounding is far below eps of it): the
     /// trace, the norm and the squares of the Jacobi rotations then can neither overflow (a
     /// tensor of 1e154) nor underflow (a subnormal one), and in the normal range the
     /// arithmetic is that of the unscaled tensor times the same power of two.
-    fn load(&mut self, lane: usize, m: &Matrix3<f64>) -> i32 {
-        let largest = m.iter().fold(0.0_f64, |l, x| l.max(x.abs()));
-        let k = exponent(largest);
-        let m = &m.map(|x| ldexp(x, -k));
-        let shift = (m[(0, 0)] + m[(1, 1)] + m[(2, 2)]) / 3.0;
-        let mut largest = 0.0_f64;
+    #[inline(always)]
+    fn load(&mut self, tensors: &[[f64; 9]; L]) {
+        let mut m = [[[0.0; L]; 3]; 3];
         for r in 0..3 {
             for c in 0..3 {
-                let x = if r == c { m[(r, c)] - shift } else { m[(r, c)] };
-                largest = largest.max(x.abs());
+                m[r][c] = lanes(|l| tensors[l][3 * r + c]);
             }
         }
-        let scale = if largest > 0.0 { largest } else { 1.0 };
-        let inverse = 1.0 / scale;
+        let mut largest = [0.0f64; L];
+        for row in &m {
+            for x in row {
+                largest = lanes(|l| largest[l].max(x[l].abs()));
+            }
+        }
+        let k = exponent_lanes(&largest);
+        let minus: [i64; L] = std::array::from_fn(|l| -k[l]);
+        let (f1, f2) = ldexp_factors(&minus);
+        for row in &mut m {
+            for x in row {
+                *x = lanes(|l| x[l] * f1[l] * f2[l]);
+            }
+        }
+        let shift: Lane<L> = lanes(|l| (m[0][0][l] + m[1][1][l] + m[2][2][l]) / 3.0);
+        let mut x = m;
+        for (k, row) in x.iter_mut().enumerate() {
+            row[k] = lanes(|l| row[k][l] - shift[l]);
+        }
+        let mut largest = [0.0f64; L];
+        let mut squares = [0.0; L];
+        for c in 0..3 {
+            for r in 0..3 {
+                largest = lanes(|l| largest[l].max(x[r][c][l].abs()));
+                squares = lanes(|l| squares[l] + m[r][c][l] * m[r][c][l]);
+            }
+        }
+        let scale: Lane<L> = lanes(|l| if largest[l] > 0.0 { largest[l] } else { 1.0 });
+        let inverse: Lane<L> = lanes(|l| 1.0 / scale[l]);
         for r in 0..3 {
             for c in 0..3 {
-                let x = if r == c { m[(r, c)] - shift } else { m[(r, c)] };
-                self.a[r][c][lane] = x * inverse;
-                self.v[r][c][lane] = if r == c { 1.0 } else { 0.0 };
+                self.a[r][c] = lanes(|l| x[r][c][l] * inverse[l]);
+                self.v[r][c] = [if r == c { 1.0 } else { 0.0 }; L];
             }
         }
-        self.shift[lane] = shift;
-        self.scale[lane] = scale;
-        self.norm[lane] = m.norm();
-        self.exponent[lane] = k;
-        k
+        self.shift = shift;
+        self.scale = scale;
+        self.norm = lanes(|l| squares[l].sqrt());
+        self.exponent = k;
     }
 
     /// Cyclic Jacobi (Golub & Van Loan 8.5.2, symmetric Schur rotations with the smaller root so
     /// the angle is at most pi/4) until every off-diagonal entry of every lane is below
     /// `eps/16` of the (unit-scaled) matrix: dropping them is a backward error far inside the
-    /// solver's own rounding, and quadratic convergence gets there one sweep after `eps`.
+    /// solver's own rounding, and quadratic convergence gets there one sweep after `eps`. A
+    /// rotation whose entry is already negligible is skipped lane by lane (its lane keeps its
+    /// values), so the sweeps another lane still needs change nothing in this one.
+    #[inline(always)]
     fn solve(&mut self) {
         let negligible = f64::EPSILON / 16.0;
         for _ in 0..MAX_SWEEPS {
+            let a = &self.a;
             let mut converged = true;
             for l in 0..L {
-                let a = &self.a;
                 converged &= a[0][1][l].abs() <= negligible
                     && a[0][2][l].abs() <= negligible
                     && a[1][2][l].abs() <= negligible;
@@ -281,60 +447,193 @@ impl<const L: usize> Lanes<L> {
             if converged {
                 break;
             }
-            for (p, q, r) in [(0, 1, 2), (0, 2, 1), (1, 2, 0)] {
-                let mut c = [1.0; L];
-                let mut s = [0.0; L];
-                let mut t = [0.0; L];
-                for l in 0..L {
-                    let apq = self.a[p][q][l];
-                    let active = apq.abs() > negligible;
-                    // t = tan(theta) = sign(tau) / (|tau| + sqrt(1 + tau^2)) with
-                    // tau = d / e, multiplied through by |e|: one division fewer on the
-                    // critical path. Entries are <= 1 after scaling, so d^2 + e^2 cannot
-                    // overflow, and |e| > eps/8 keeps it from vanishing.
-                    let e = if active { 2.0 * apq } else { 1.0 };
-                    let d = self.a[q][q][l] - self.a[p][p][l];
-                    let root = d.signum() * e / (d.abs() + (d * d + e * e).sqrt());
-                    t[l] = if active { root } else { 0.0 };
-                    c[l] = 1.0 / (1.0 + t[l] * t[l]).sqrt();
-                    s[l] = t[l] * c[l];
-                }
-                // Each update is its own loop over the lanes (contiguous), so that it vectorises.
-                let a = &mut self.a;
-                let mut apq = [0.0; L];
-                apq.copy_from_slice(&a[p][q]);
-                for l in 0..L {
-                    a[p][p][l] -= t[l] * apq[l];
-                    a[q][q][l] += t[l] * apq[l];
-                    let keep = if t[l] == 0.0 { apq[l] } else { 0.0 };
-                    a[p][q][l] = keep;
-                    a[q][p][l] = keep;
-                }
-                for l in 0..L {
-                    let (arp, arq) = (a[r][p][l], a[r][q][l]);
-                    a[r][p][l] = c[l] * arp - s[l] * arq;
-                    a[r][q][l] = s[l] * arp + c[l] * arq;
-                    a[p][r][l] = a[r][p][l];
-                    a[q][r][l] = a[r][q][l];
-                }
-                for row in &mut self.v {
-                    for l in 0..L {
-                        let (vp, vq) = (row[p][l], row[q][l]);
-                        row[p][l] = c[l] * vp - s[l] * vq;
-                        row[q][l] = s[l] * vp + c[l] * vq;
-                    }
-                }
-            }
+            // Each rotation with constant indices, so that the entries stay in registers.
+            self.rotate::<0, 1, 2>(negligible);
+            self.rotate::<0, 2, 1>(negligible);
+            self.rotate::<1, 2, 0>(negligible);
         }
     }
 
-    /// The canonical principal frame of `lane`; equal moments within `rtol ||A||_F`.
-    fn principal(&self, lane: usize, rtol: f64) -> Principal {
-        let (shift, scale) = (self.shift[lane], self.scale[lane]);
-        let values = [0, 1, 2].map(|k| self.a[k][k][lane] * scale + shift);
-        let vectors = Matrix3::from_fn(|r, c| self.v[r][c][lane]);
-        canonical(values, vectors, rtol * self.norm[lane])
+    /// One Jacobi rotation in the (p, q) plane (`r` the third index), lane by lane; a lane
+    /// whose entry is negligible keeps its values.
+    #[inline(always)]
+    fn rotate<const P: usize, const Q: usize, const R: usize>(&mut self, negligible: f64) {
+        let (p, q, r) = (P, Q, R);
+        let a = &mut self.a;
+        let apq = a[p][q];
+        let active: [bool; L] = std::array::from_fn(|l| apq[l].abs() > negligible);
+        // t = tan(theta) = sign(tau) / (|tau| + sqrt(1 + tau^2)) with tau = d / e,
+        // multiplied through by |e|: one division fewer on the critical path. Entries
+        // are <= 1 after scaling, so d^2 + e^2 cannot overflow, and |e| > eps/8 keeps it
+        // from vanishing (an inactive lane computes with e = 1 and is not updated).
+        let e: Lane<L> = lanes(|l| if active[l] { 2.0 * apq[l] } else { 1.0 });
+        let d: Lane<L> = lanes(|l| a[q][q][l] - a[p][p][l]);
+        let t: Lane<L> = lanes(|l| {
+            1.0f64.copysign(d[l]) * e[l] / (d[l].abs() + (d[l] * d[l] + e[l] * e[l]).sqrt())
+        });
+        let c: Lane<L> = lanes(|l| 1.0 / (1.0 + t[l] * t[l]).sqrt());
+        let s: Lane<L> = lanes(|l| t[l] * c[l]);
+        let app = lanes(|l| a[p][p][l] - t[l] * apq[l]);
+        a[p][p] = select(&active, &app, &a[p][p]);
+        let aqq = lanes(|l| a[q][q][l] + t[l] * apq[l]);
+        a[q][q] = select(&active, &aqq, &a[q][q]);
+        let zero = [0.0; L];
+        a[p][q] = select(&active, &zero, &apq);
+        a[q][p] = a[p][q];
+        let (arp, arq) = (a[r][p], a[r][q]);
+        let rp = lanes(|l| c[l] * arp[l] - s[l] * arq[l]);
+        let rq = lanes(|l| s[l] * arp[l] + c[l] * arq[l]);
+        a[r][p] = select(&active, &rp, &arp);
+        a[r][q] = select(&active, &rq, &arq);
+        a[p][r] = a[r][p];
+        a[q][r] = a[r][q];
+        for row in &mut self.v {
+            let (vp, vq) = (row[p], row[q]);
+            let np = lanes(|l| c[l] * vp[l] - s[l] * vq[l]);
+            let nq = lanes(|l| s[l] * vp[l] + c[l] * vq[l]);
+            row[p] = select(&active, &np, &vp);
+            row[q] = select(&active, &nq, &vq);
+        }
     }
+
+    /// The canonical principal frames (moments in units of `2^exponent`); equal moments within
+    /// `rtol ||A||_F`.
+    #[inline(always)]
+    fn canonical(&self, rtol: f64) -> CanonicalLanes<L> {
+        let values = three(|k| lanes(|l| self.a[k][k][l] * self.scale[l] + self.shift[l]));
+        let tolerance = lanes(|l| rtol * self.norm[l]);
+        canonical_lanes(values, self.v, &tolerance)
+    }
+}
+
+/// Sorts, groups equal moments (gap `<= tolerance`, an absolute number already scaled by the
+/// caller), and fixes the frame: deterministic signs, det = +1, and inside a degenerate subspace
+/// the axes closest to the body's own; lane by lane (`vectors[r][c]`: row `r` of column `c`).
+#[inline(always)]
+fn canonical_lanes<const L: usize>(
+    values: [Lane<L>; 3],
+    vectors: [[Lane<L>; 3]; 3],
+    tolerance: &Lane<L>,
+) -> CanonicalLanes<L> {
+    // A three-element sorting network on the moments and their columns.
+    let mut m = values;
+    let mut col = three(|c| [vectors[0][c], vectors[1][c], vectors[2][c]]);
+    for (i, j) in [(0, 1), (1, 2), (0, 1)] {
+        let swap: [bool; L] = std::array::from_fn(|l| m[j][l] < m[i][l]);
+        let (mi, mj) = (m[i], m[j]);
+        m[i] = select(&swap, &mj, &mi);
+        m[j] = select(&swap, &mi, &mj);
+        for r in 0..3 {
+            let (ci, cj) = (col[i][r], col[j][r]);
+            col[i][r] = select(&swap, &cj, &ci);
+            col[j][r] = select(&swap, &ci, &cj);
+        }
+    }
+    let low: [bool; L] = std::array::from_fn(|l| m[1][l] - m[0][l] <= tolerance[l]);
+    let high: [bool; L] = std::array::from_fn(|l| m[2][l] - m[1][l] <= tolerance[l]);
+
+    // Distinct moments: Gram-Schmidt once (the accumulated rotations leave columns orthogonal
+    // only to a few eps per rotation).
+    let a0 = unit(signed(col[0]));
+    let dot: Lane<L> =
+        lanes(|l| a0[0][l] * col[1][0][l] + a0[1][l] * col[1][1][l] + a0[2][l] * col[1][2][l]);
+    let a1 = unit(signed(three(|r| {
+        lanes(|l| col[1][r][l] - a0[r][l] * dot[l])
+    })));
+    let a2 = cross(&a0, &a1);
+    let mut axes = [a0, a1, a2];
+    let mut moments = m;
+    let mut multiplicity = [[1u8; L]; 3];
+
+    let pair: [bool; L] = std::array::from_fn(|l| low[l] != high[l]);
+    if pair.iter().any(|&p| p) {
+        // A symmetric body: one unique axis `u` and a plane of equal moments.
+        let unique = three(|r| select(&low, &col[2][r], &col[0][r]));
+        let u = unit(signed(unique));
+        // In the plane: the projection of the body axis most perpendicular to `u` (the first
+        // such axis on a tie), then the axis that completes a right-handed frame.
+        let size = three(|k| lanes::<L>(|l| u[k][l].abs()));
+        let is1: [bool; L] = std::array::from_fn(|l| size[1][l] < size[0][l]);
+        let smallest = select(&is1, &size[1], &size[0]);
+        let is2: [bool; L] = std::array::from_fn(|l| size[2][l] < smallest[l]);
+        let j: [usize; L] = std::array::from_fn(|l| if is2[l] { 2 } else { usize::from(is1[l]) });
+        let uj = select(&is2, &u[2], &select(&is1, &u[1], &u[0]));
+        let p1 = three(|k| {
+            lanes::<L>(|l| {
+                let x = -u[k][l] * uj[l];
+                if j[l] == k {
+                    x + 1.0
+                } else {
+                    x
+                }
+            })
+        });
+        let p1 = unit(p1);
+        let p2 = cross(&u, &p1);
+        // low: (p1, p2, u), high: (u, p1, p2).
+        let columns = [
+            three(|r| select(&low, &p1[r], &u[r])),
+            three(|r| select(&low, &p2[r], &p1[r])),
+            three(|r| select(&low, &u[r], &p2[r])),
+        ];
+        let low_mean: Lane<L> = lanes(|l| 0.5 * (m[0][l] + m[1][l]));
+        let high_mean: Lane<L> = lanes(|l| 0.5 * (m[1][l] + m[2][l]));
+        let paired = [
+            select(&low, &low_mean, &m[0]),
+            select(&low, &low_mean, &high_mean),
+            select(&low, &m[2], &high_mean),
+        ];
+        for k in 0..3 {
+            for r in 0..3 {
+                axes[k][r] = select(&pair, &columns[k][r], &axes[k][r]);
+            }
+            moments[k] = select(&pair, &paired[k], &moments[k]);
+        }
+        for l in 0..L {
+            if pair[l] {
+                multiplicity = if low[l] {
+                    set_lane(multiplicity, l, [2, 2, 1])
+                } else {
+                    set_lane(multiplicity, l, [1, 2, 2])
+                };
+            }
+        }
+    }
+    // A spherical body: the moments' mean and the body's own axes.
+    let sphere: [bool; L] = std::array::from_fn(|l| low[l] && high[l]);
+    if sphere.iter().any(|&s| s) {
+        let mean: Lane<L> = lanes(|l| (m[0][l] + m[1][l] + m[2][l]) / 3.0);
+        for k in 0..3 {
+            moments[k] = select(&sphere, &mean, &moments[k]);
+            for r in 0..3 {
+                let identity = [if r == k { 1.0 } else { 0.0 }; L];
+                axes[k][r] = select(&sphere, &identity, &axes[k][r]);
+            }
+        }
+        for l in 0..L {
+            if sphere[l] {
+                multiplicity = set_lane(multiplicity, l, [3, 3, 3]);
+            }
+        }
+    }
+    CanonicalLanes {
+        moments,
+        axes: three(|r| three(|c| axes[c][r])),
+        multiplicity,
+    }
+}
+
+/// `multiplicity` with lane `l` set to `value`.
+#[inline(always)]
+fn set_lane<const L: usize>(
+    mut multiplicity: [[u8; L]; 3],
+    l: usize,
+    value: [u8; 3],
+) -> [[u8; L]; 3] {
+    for k in 0..3 {
+        multiplicity[k][l] = value[k];
+    }
+    multiplicity
 }
 
 /// One-sided (Hestenes) Jacobi SVD of a 3x3 factor `f`: the singular values and the right
@@ -394,83 +693,8 @@ pub(crate) fn right_singular(f: &Matrix3<f64>) -> ([f64; 3], Matrix3<f64>) {
 /// caller), and fixes the frame: deterministic signs, det = +1, and inside a degenerate subspace
 /// the axes closest to the body's own.
 pub(crate) fn canonical(values: [f64; 3], vectors: Matrix3<f64>, tolerance: f64) -> Principal {
-    // A three-element sorting network: fewer unpredictable branches than a sort call.
-    let mut order = [0usize, 1, 2];
-    for (a, b) in [(0, 1), (1, 2), (0, 1)] {
-        if values[order[b]] < values[order[a]] {
-            order.swap(a, b);
-        }
-    }
-    let mut moments = Vector3::new(values[order[0]], values[order[1]], values[order[2]]);
-    let column = |k: usize| -> Vector3<f64> { vectors.column(order[k]).into_owned() };
-
-    let low_equal = moments[1] - moments[0] <= tolerance;
-    let high_equal = moments[2] - moments[1] <= tolerance;
-    let (axes, multiplicity) = if low_equal && high_equal {
-        moments.fill(moments.sum() / 3.0);
-        (Matrix3::identity(), [3, 3, 3])
-    } else if low_equal || high_equal {
-        // A symmetric body: one unique axis `u` and a plane of equal moments.
-        let (unique, first, second) = if low_equal { (2, 0, 1) } else { (0, 1, 2) };
-        let mean = 0.5 * (moments[first] + moments[second]);
-        moments[first] = mean;
-        moments[second] = mean;
-        let u = unit(signed(column(unique)));
-        // In the plane: the projection of the body axis most perpendicular to `u` (the first
-        // such axis on a tie), then the axis that completes a right-handed frame.
-        let mut j = 0;
-        for k in 1..3 {
-            if u[k].abs() < u[j].abs() {
-                j = k;
-            }
-        }
-        let mut p1 = -u * u[j];
-        p1[j] += 1.0;
-        let p1 = unit(p1);
-        let p2 = u.cross(&p1);
-        let mut axes = Matrix3::zeros();
-        axes.set_column(unique, &u);
-        axes.set_column(first, &p1);
-        axes.set_column(second, &p2);
-        let mut multiplicity = [2, 2, 2];
-        multiplicity[unique] = 1;
-        (axes, multiplicity)
-    } else {
-        // Gram-Schmidt once: the accumulated rotations leave columns orthogonal only to a few
-        // eps per rotation.
-        let a0 = unit(signed(column(0)));
-        let a1 = column(1);
-        let a1 = unit(signed(a1 - a0 * a0.dot(&a1)));
-        let a2 = a0.cross(&a1);
-        (Matrix3::from_columns(&[a0, a1, a2]), [1, 1, 1])
-    };
-    Principal {
-        moments,
-        axes,
-        multiplicity,
-    }
-}
-
-/// `v / |v|` with one division.
-#[inline]
-fn unit(v: Vector3<f64>) -> Vector3<f64> {
-    v * (1.0 / v.norm())
-}
-
-/// The vector with the sign that makes its largest-magnitude component (the first on a tie)
-/// positive.
-fn signed(v: Vector3<f64>) -> Vector3<f64> {
-    let mut j = 0;
-    for k in 1..3 {
-        if v[k].abs() > v[j].abs() {
-            j = k;
-        }
-    }
-    if v[j] < 0.0 {
-        -v
-    } else {
-        v
-    }
+    let vectors = [0, 1, 2].map(|r| [0, 1, 2].map(|c| [vectors[(r, c)]]));
+    canonical_lanes::<1>(values.map(|v| [v]), vectors, &[tolerance]).principal(0)
 }
 
 /// Principal moments and axes of a batch of tensors, in parallel on all cores.
@@ -549,11 +773,13 @@ pub fn principal_batch_monitored(
     outcomes.into_iter().collect()
 }
 
-/// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes.
-const LANES: usize = 8;
+/// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes (one AVX2
+/// register of four doubles; with eight the state of a group spills from the registers).
+const LANES: usize = 4;
 
-/// One chunk of the batch, with the widest vector instructions the CPU has (checked at run
-/// time; the arithmetic is the same IEEE operations either way, so results do not depend on it).
+/// One chunk of the batch, with the widest vector instructions the CPU has
+/// ([`crate::simd::dispatch`]: the same IEEE operations either way, so results do not depend on
+/// it).
 fn solve_chunk(
     t: &[f64],
     m: &mut [f64],
@@ -562,27 +788,10 @@ fn solve_chunk(
     rtol: f64,
     offset: usize,
 ) -> Result<()> {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { solve_chunk_avx2(t, m, x, u, rtol, offset) };
-        }
-    }
-    solve_chunk_generic(t, m, x, u, rtol, offset)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx,avx2")]
-unsafe fn solve_chunk_avx2(
-    t: &[f64],
-    m: &mut [f64],
-    x: &mut [f64],
-    u: &mut [i64],
-    rtol: f64,
-    offset: usize,
-) -> Result<()> {
-    solve_chunk_generic(t, m, x, u, rtol, offset)
+    crate::simd::dispatch(
+        #[inline(always)]
+        || solve_chunk_generic(t, m, x, u, rtol, offset),
+    )
 }
 
 #[inline(always)]
@@ -594,44 +803,121 @@ fn solve_chunk_generic(
     rtol: f64,
     offset: usize,
 ) -> Result<()> {
-    let count = t.len() / 9;
-    for first in (0..count).step_by(LANES) {
-        let mut lanes = Lanes::<LANES>::default();
-        let used = LANES.min(count - first);
-        for l in 0..used {
-            let i = first + l;
-            let tensor = Matrix3::from_row_slice(&t[9 * i..9 * i + 9]);
-            match checked_symmetric(&tensor, "inertia") {
-                Ok(a) => {
-                    lanes.load(l, &a);
-                }
-                Err(e) => return Err(e.in_body(offset + i)),
-            }
-        }
-        lanes.solve();
-        for l in 0..used {
-            let i = first + l;
-            let p = lanes.principal(l, rtol);
-            let k = lanes.exponent[l];
-            for (out, &x) in m[3 * i..3 * i + 3].iter_mut().zip(p.moments.iter()) {
-                *out = ldexp(x, k);
-            }
-            if !m[3 * i..3 * i + 3].iter().all(|x| x.is_finite()) {
-                return Err(
-                    moments_overflow("inertia", p.moments.abs().max(), k).in_body(offset + i)
-                );
-            }
-            for (k, &count) in p.multiplicity.iter().enumerate() {
-                u[3 * i + k] = i64::from(count);
-            }
-            for r in 0..3 {
-                for c in 0..3 {
-                    x[9 * i + 3 * r + c] = p.axes[(r, c)];
-                }
+    let (groups, rest) = t.as_chunks::<{ 9 * LANES }>();
+    for (g, group) in groups.iter().enumerate() {
+        let first = g * LANES;
+        let tensors: &[[f64; 9]; LANES] = group
+            .as_chunks::<9>()
+            .0
+            .try_into()
+            .unwrap_or_else(|_| unreachable!());
+        if !solve_group::<LANES>(tensors, first, m, x, u, rtol) {
+            // A bad tensor in the group: one by one, in order, for the first error.
+            for (l, tensor) in tensors.iter().enumerate() {
+                solve_one(tensor, first + l, m, x, u, rtol, offset)?;
             }
         }
     }
+    let first = groups.len() * LANES;
+    for (l, tensor) in rest.as_chunks::<9>().0.iter().enumerate() {
+        solve_one(tensor, first + l, m, x, u, rtol, offset)?;
+    }
     Ok(())
+}
+
+/// Tensor `i` of the chunk on its own, or its error (as body `offset + i`).
+#[inline(always)]
+fn solve_one(
+    tensor: &[f64; 9],
+    i: usize,
+    m: &mut [f64],
+    x: &mut [f64],
+    u: &mut [i64],
+    rtol: f64,
+    offset: usize,
+) -> Result<()> {
+    if !solve_group::<1>(std::array::from_ref(tensor), i, m, x, u, rtol) {
+        let tensor = Matrix3::from_row_slice(tensor);
+        let error = match checked_symmetric(&tensor, "inertia") {
+            Err(e) => e,
+            Ok(a) => {
+                let (p, k) = eigen_symmetric_scaled(&a, rtol);
+                moments_overflow("inertia", p.moments.abs().max(), k)
+            }
+        };
+        return Err(error.in_body(offset + i));
+    }
+    Ok(())
+}
+
+/// Solves `L` tensors (row by row) into entries `first..first + L` of the outputs; false (and
+/// the outputs of the group unspecified) if one of them is not finite or not symmetric (see
+/// [`checked_symmetric`], whose arithmetic this repeats lane by lane) or its moments overflow.
+#[inline(always)]
+fn solve_group<const L: usize>(
+    tensors: &[[f64; 9]; L],
+    first: usize,
+    m: &mut [f64],
+    x: &mut [f64],
+    u: &mut [i64],
+    rtol: f64,
+) -> bool {
+    let mut good = [true; L];
+    let mut largest = [0.0f64; L];
+    for e in 0..9 {
+        for l in 0..L {
+            let v = tensors[l][e];
+            good[l] &= v.is_finite();
+            largest[l] = largest[l].max(v.abs());
+        }
+    }
+    let mut sym = *tensors;
+    for (r, c) in [(0, 1), (0, 2), (1, 2)] {
+        for l in 0..L {
+            let (upper, lower) = (tensors[l][3 * r + c], tensors[l][3 * c + r]);
+            good[l] &= (upper - lower).abs() <= 64.0 * f64::EPSILON * largest[l];
+            // The mean of the two mirrors, as in `checked_symmetric`.
+            let sum = upper + lower;
+            let mean = if sum.is_finite() {
+                sum * 0.5
+            } else {
+                upper * 0.5 + lower * 0.5
+            };
+            sym[l][3 * r + c] = mean;
+            sym[l][3 * c + r] = mean;
+        }
+    }
+    if !good.iter().all(|&g| g) {
+        return false;
+    }
+    let mut lanes = Lanes::<L>::default();
+    lanes.load(&sym);
+    lanes.solve();
+    let p = lanes.canonical(rtol);
+    let (f1, f2) = ldexp_factors(&lanes.exponent);
+    let moments: [Lane<L>; 3] = three(|k| self::lanes(|l| p.moments[k][l] * f1[l] * f2[l]));
+    let mut finite = true;
+    for v in &moments {
+        for l in 0..L {
+            finite &= v[l].is_finite();
+        }
+    }
+    if !finite {
+        return false;
+    }
+    for l in 0..L {
+        let i = first + l;
+        for k in 0..3 {
+            m[3 * i + k] = moments[k][l];
+            u[3 * i + k] = i64::from(p.multiplicity[k][l]);
+        }
+        for r in 0..3 {
+            for c in 0..3 {
+                x[9 * i + 3 * r + c] = p.axes[r][c][l];
+            }
+        }
+    }
+    true
 }
 
 #[cfg(test)]
