@@ -73,7 +73,7 @@ use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::carlson::{carlson_rf, carlson_rj};
 use super::dd::{agm1, cel, Dd};
-use super::elliptic::{ellipk_dd, reduce_quarter_dd, sncndn_quarter};
+use super::elliptic::{ellipk_dd, Landen};
 use super::xd::{asinh_xd, exact_sum_a_b2_diff, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
@@ -243,7 +243,12 @@ struct Elliptic {
     kp_exp: i32,
     /// How `sn, cn, dn` are evaluated (module doc).
     functions: Functions,
+    /// The Landen chain of `mc` (for [`Functions::Landen`]).
+    landen: Landen,
     k: Dd,
+    /// `1 / K` and `1 / 2K`, rounded: the reductions' first guesses of the quotients.
+    inv_k: f64,
+    inv_k2: f64,
     /// `J` over a half period `2K` of `u`: `2 cel(k', 1 + nu, 0, 1)`.
     j_half: Dd,
     /// `Jc(K) = int_0^K cn^2 / (1 + nu sn^2) = cel(k', 1 + nu, 1, 0)`.
@@ -270,8 +275,16 @@ struct Separatrix {
 
 /// `x` reduced into `[-pi, pi]`, from a double-double angle.
 fn wrap(x: Dd) -> f64 {
-    let j = (x / Dd::TAU).round();
-    (x - Dd::TAU * j.hi - Dd::TAU * j.lo).to_f64()
+    // The quotient by 2 pi rounded from a double product (a few turns off at most when |x| is
+    // large), then once more from the remainder, which is small: exact.
+    let inv = 1.0 / std::f64::consts::TAU;
+    let r = x - Dd::TAU * (x.hi * inv).round();
+    let j = (r.hi * inv).round();
+    if j == 0.0 {
+        r.to_f64()
+    } else {
+        (r - Dd::TAU * j).to_f64()
+    }
 }
 
 fn qz(angle: f64) -> UnitQuaternion<f64> {
@@ -302,6 +315,43 @@ fn theta_psi(e: [Sd; 3]) -> (f64, f64) {
         Sd::atan2(Sd::hypot(e[0], e[1]), e[2]),
         Sd::atan2(e[0], e[1]),
     )
+}
+
+/// `qz(phi) qx(theta) qz(psi)` for the z-x-z Euler angles `(theta, psi)` of `e` (as
+/// [`theta_psi`] gives them) and `phi`, without forming `theta` and `psi`: their half angles
+/// from `G +- e_z` and `h +- e_y` (`h = hypot(e_x, e_y)`, `G = hypot(h, e_z)`), each from the
+/// sum without cancellation and the other from `sin x = 2 sin(x/2) cos(x/2)`, on the same
+/// branches (`theta/2` in `[0, pi/2]`, `psi/2` in `(-pi/2, pi/2]`). `None` if `h` is zero or
+/// not finite.
+fn zxz_half_angles(e: [f64; 3], phi: f64) -> Option<UnitQuaternion<f64>> {
+    let h = e[0].hypot(e[1]);
+    if !(h > 0.0 && h.is_finite()) {
+        return None;
+    }
+    let g = h.hypot(e[2]);
+    let (ct, st) = if e[2] >= 0.0 {
+        let c = ((g + e[2]) / (2.0 * g)).sqrt();
+        (c, h / (2.0 * g * c))
+    } else {
+        let s = ((g - e[2]) / (2.0 * g)).sqrt();
+        (h / (2.0 * g * s), s)
+    };
+    let (cp, sp) = if e[1] >= 0.0 {
+        let c = ((h + e[1]) / (2.0 * h)).sqrt();
+        (c, e[0] / (2.0 * h * c))
+    } else {
+        let s = ((h - e[1]) / (2.0 * h)).sqrt().copysign(e[0]);
+        (e[0] / (2.0 * h * s), s)
+    };
+    let (sf, cf) = (0.5 * phi).sin_cos();
+    let (c_sum, s_sum) = (cf * cp - sf * sp, sf * cp + cf * sp);
+    let (c_diff, s_diff) = (cf * cp + sf * sp, sf * cp - cf * sp);
+    Some(UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+        ct * c_sum,
+        st * c_diff,
+        st * s_diff,
+        ct * s_sum,
+    )))
 }
 
 /// `(tanh u, sech u)` without overflow (double precision; for the small-`u` branch of `J`).
@@ -760,7 +810,10 @@ impl FreeRotation {
                 } else {
                     Functions::Corrected
                 },
+                landen: Landen::new(mc),
                 k,
+                inv_k: 1.0 / k.hi,
+                inv_k2: 0.5 / k.hi,
                 j_half,
                 jc_quarter,
             }
@@ -800,7 +853,10 @@ impl FreeRotation {
                 kp: kp.x,
                 kp_exp: kp.e,
                 functions: Functions::Hyperbolic,
+                landen: Landen::new(1.0),
                 k,
+                inv_k: 1.0 / k.hi,
+                inv_k2: 0.5 / k.hi,
                 j_half,
                 jc_quarter,
             }
@@ -812,7 +868,7 @@ impl FreeRotation {
             // |cn| <= |sn| (well conditioned there, cn(K - v) = k' sd v), on sn elsewhere.
             let c0 = m1.div(b1).to_f64();
             let s0 = m2.mul_f64(ell.c.s[1]).div(b2).to_f64();
-            let (s, c, d, _, _) = ell.phase(ell.c.u(0.0));
+            let (s, c, d, _, _) = ell.phase::<false>(ell.c.u(0.0));
             let delta = if c0.abs() <= s0.abs() {
                 (c - c0) / (s * d)
             } else {
@@ -820,7 +876,7 @@ impl FreeRotation {
             };
             ell.c.u0 = ell.c.u0 + delta;
         }
-        ell.c.j0 = ell.phase(ell.c.u(0.0)).3;
+        ell.c.j0 = ell.phase::<true>(ell.c.u(0.0)).3;
         // The fastest angle: the precession or the phase of omega, 2 pi lambda / 4K.
         let omega_rate = (lambda * Xd::from_dd(Dd::TAU)) / Xd::from_dd(ell.k * 4.0);
         let rate = if phi_rate.abs_lt(omega_rate) {
@@ -897,7 +953,7 @@ impl FreeRotation {
             Motion::Steady { .. } => self.omega0,
             Motion::Symmetric(s) => s.omega(&self.omega0, t),
             Motion::Elliptic(e) => {
-                let (sn, cn, dn, _, kappa) = e.phase(e.c.u(t));
+                let (sn, cn, dn, _, kappa) = e.phase::<false>(e.c.u(t));
                 e.c.omega([cn, sn, dn], kappa)
             }
             Motion::Separatrix(s) => {
@@ -931,7 +987,7 @@ impl FreeRotation {
             }
             Motion::Elliptic(e) => {
                 let u = e.c.u(t);
-                let (sn, cn, dn, j, kappa) = e.phase(u);
+                let (sn, cn, dn, j, kappa) = e.phase::<true>(u);
                 e.c.state(t, [cn, sn, dn], kappa, j)
             }
             Motion::Separatrix(s) => {
@@ -1128,27 +1184,61 @@ impl Common {
         } else {
             m
         };
-        let (theta, psi) = theta_psi(euler);
         let phi = wrap(self.base_rate * ldexp(t, self.rho) + self.coef * (j - self.j0));
-        let q = self.q_l * qz(phi) * qx(theta) * qz(psi) * self.q_e_inv;
-        (self.omega(f, kappa), q)
+        let e = if euler[0].e == euler[1].e && euler[1].e == euler[2].e {
+            zxz_half_angles([euler[0].x, euler[1].x, euler[2].x], phi)
+        } else {
+            None
+        };
+        let q_euler = e.unwrap_or_else(|| {
+            let (theta, psi) = theta_psi(euler);
+            qz(phi) * qx(theta) * qz(psi)
+        });
+        (self.omega(f, kappa), self.q_l * q_euler * self.q_e_inv)
     }
 }
 
 impl Elliptic {
-    /// `(sn, cn, dn)` and `J` at the phase `u + u0_q K`, with `cn` and `dn` in units of
-    /// `2^kappa`.
-    fn phase(&self, u: Dd) -> (f64, f64, f64, Dd, i32) {
-        // u + u0_q K = 2 K j + w, |w| <= K; w = q K + v, |v| <= K/2.
-        let (j, q, v, w) = if self.c.u0_q == 0 {
+    /// `u = q K + v` with `|v| <= K/2` (up to rounding), in double-double (exact for `|u|` up
+    /// to about `2^50 K`): the quotient from a double product, corrected by one where it is off.
+    fn reduce_quarter(&self, u: Dd) -> (i64, Dd) {
+        let k = self.k;
+        let mut q = (u.hi * self.inv_k).round();
+        let mut v = u - k * q;
+        for _ in 0..2 {
+            if v.hi > 0.5 * k.hi {
+                q += 1.0;
+            } else if v.hi < -0.5 * k.hi {
+                q -= 1.0;
+            } else {
+                break;
+            }
+            v = u - k * q;
+        }
+        (q as i64, v)
+    }
+
+    /// `u + u0_q K = 2 K j + w`, `|w| <= K`; `w = q K + v`, `|v| <= K/2`: `(j, q, v, w)`.
+    fn reduce(&self, u: Dd) -> (f64, i64, Dd, Dd) {
+        if self.c.u0_q == 0 {
             let k2 = self.k * 2.0;
-            let j = (u / k2).round();
-            let w = u - k2 * j.hi - k2 * j.lo;
-            let (q, v) = reduce_quarter_dd(w, self.k);
+            let mut j = (u.hi * self.inv_k2).round();
+            let mut w = u - k2 * j;
+            for _ in 0..2 {
+                if w.hi > self.k.hi {
+                    j += 1.0;
+                } else if w.hi < -self.k.hi {
+                    j -= 1.0;
+                } else {
+                    break;
+                }
+                w = u - k2 * j;
+            }
+            let (q, v) = self.reduce_quarter(w);
             (j, q, v, w)
         } else {
             // The quarters of u0 are added as an integer, so that v keeps its digits.
-            let (qr, v) = reduce_quarter_dd(u, self.k);
+            let (qr, v) = self.reduce_quarter(u);
             let qt = qr + self.c.u0_q;
             let (j, q) = if qt.rem_euclid(2) == 0 {
                 (qt.div_euclid(2), 0)
@@ -1157,25 +1247,41 @@ impl Elliptic {
             } else {
                 ((qt - 1).div_euclid(2), 1)
             };
-            (Dd::new(j as f64), q, v, self.k * (q as f64) + v)
-        };
+            (j as f64, q, v, self.k * (q as f64) + v)
+        }
+    }
+
+    /// `(sn, cn, dn)` and (if `WITH_J`, else zero) `J` at the phase `u + u0_q K`, with `cn`
+    /// and `dn` in units of `2^kappa`.
+    fn phase<const WITH_J: bool>(&self, u: Dd) -> (f64, f64, f64, Dd, i32) {
+        let (j, q, v, w) = self.reduce(u);
         let (s, c, d, kappa, jw) = match self.functions {
             Functions::Hyperbolic => self.reduced_hyperbolic(q, v, w),
             Functions::Landen => {
-                let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
-                (s, c, d, 0, self.j_reduced(w, s, c, d))
+                let (s, c, d) = self.landen.quarter(q, v.to_f64(), self.kp);
+                let jw = if WITH_J {
+                    self.j_reduced(w, s, c, d)
+                } else {
+                    Dd::ZERO
+                };
+                (s, c, d, 0, jw)
             }
             Functions::Corrected => {
                 let (s, c, d) = self.corrected(q, v);
-                (s, c, d, 0, self.j_reduced(w, s, c, d))
+                let jw = if WITH_J {
+                    self.j_reduced(w, s, c, d)
+                } else {
+                    Dd::ZERO
+                };
+                (s, c, d, 0, jw)
             }
         };
-        let jj = self.j_half * j.hi + self.j_half * j.lo + jw;
-        let sg = if j.to_f64().rem_euclid(2.0) == 1.0 {
-            -1.0
+        let jj = if WITH_J {
+            self.j_half * j + jw
         } else {
-            1.0
+            Dd::ZERO
         };
+        let sg = if j.rem_euclid(2.0) == 1.0 { -1.0 } else { 1.0 };
         (sg * s, sg * c, d, jj, kappa)
     }
 
@@ -1312,10 +1418,50 @@ mod tests {
     }
 
     #[test]
+    fn half_angles_are_the_euler_product() {
+        // Against qz(phi) qx(theta) qz(psi) from the angles, on every branch: e_z and e_y of
+        // both signs, e_x = +-0 on the negative y axis (psi = +-pi), theta near 0 and pi.
+        let cases = [
+            [0.3, 0.5, 0.8],
+            [-0.3, 0.5, -0.8],
+            [0.3, -0.5, 0.8],
+            [-0.3, -0.5, -0.8],
+            [0.0, -0.5, 0.1],
+            [-0.0, -0.5, 0.1],
+            [1e-9, 2e-9, 1.0],
+            [1e-9, -2e-9, -1.0],
+            [2.0, 0.0, 0.0],
+        ];
+        for e in cases {
+            for phi in [0.0, 1.0, -3.0, std::f64::consts::PI] {
+                let sd = e.map(|x| Sd::new(x, 0));
+                let (theta, psi) = theta_psi(sd);
+                let want = qz(phi) * qx(theta) * qz(psi);
+                let got = zxz_half_angles(e, phi).unwrap();
+                assert!(
+                    (got.coords - want.coords).norm() <= 4.0 * EPS,
+                    "{e:?} {phi}: {got:?} vs {want:?}"
+                );
+            }
+        }
+        assert!(zxz_half_angles([0.0, 0.0, 1.0], 0.3).is_none());
+    }
+
+    #[test]
     fn wrap_reduces_double_double_angles() {
         let x = Dd::TAU * 1e12 + 0.25;
         assert!((wrap(x) - 0.25).abs() < 1e-15);
         assert!((wrap(Dd::new(-4.0)) - (-4.0 + std::f64::consts::TAU)).abs() < 1e-15);
+        // Far out, where the double quotient by 2 pi can be off by one: the remainder is still
+        // in [-pi, pi] and exact to the rounding of x.
+        for k in [1e14, 1e15, 3e15] {
+            for r in [3.141_592_653_589_79, -3.141_592_653_589_79, 3.0, -3.1, 0.5] {
+                let x = Dd::TAU * k + r;
+                let w = wrap(x);
+                assert!(w.abs() <= std::f64::consts::PI, "{k} {r}: {w}");
+                assert!((w - r).abs() < 1e-14, "{k} {r}: {w}");
+            }
+        }
     }
 
     const EPS: f64 = f64::EPSILON;
