@@ -1,6 +1,6 @@
 """The exact solution per output time against scipy's ``ellipj`` at as many arguments.
 
-    python -m benchmarks.bench_exact [--times N] [--repeats R]
+    python -m benchmarks.bench_exact [--times N] [--repeats R] [--accuracy]
 
 Timed, interleaved, R rounds (default 7), N output times (default 2e5) on one body:
 
@@ -13,14 +13,19 @@ Timed, interleaved, R rounds (default 7), N output times (default 2e5) on one bo
 Three bodies: a generic one (``m`` about 0.6), one near the separatrix (``1 - m`` about 1e-3,
 where the nome ``q`` is large) and one within 1e-12 of it (``1 - m`` about 1e-12). The table
 gives the median ns per output time and the ratios to ``ellipj`` measured in the same run.
-Accuracy is not timed here: ``tests/test_exact_extremes.py`` and
-``tests/test_motion_hard_cases.py`` compare the exact solution with 50-digit mpmath.
+
+``--accuracy`` adds, for the same bodies at 64 times up to 1e4 periods, the largest error of
+omega (normwise relative) and of the quaternion (up to sign), in units of eps, against the
+50-digit closed form of ``tests/reference_motion.py`` (mpmath; what ``tests/test_exact_extremes.py``
+and ``tests/test_motion_hard_cases.py`` assert, to 10 eps).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
+import sys
 
 import numpy as np
 
@@ -82,12 +87,41 @@ def run(n: int, repeats: int) -> str:
     return "\n".join([head, *rows])
 
 
+def accuracy() -> str:
+    """Largest errors of omega and the quaternion in eps against 50-digit mpmath."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+    from reference_motion import exact_closed_form
+
+    eps = float(np.finfo(float).eps)
+    q0 = np.array([0.1, -0.2, 0.3, 0.9])
+    q0 = tuple(float(x) for x in q0 / np.linalg.norm(q0))
+    rows = ["| body | omega error / eps | quaternion error / eps |", "| --- | --- | --- |"]
+    for name, moments, omega0 in BODIES:
+        period = ph.analyze(moments, omega0).period
+        assert period is not None
+        times = np.concatenate([[0.0], np.geomspace(1e-3, 1e4, 63) * period])
+        sol = ph.simulate(moments, omega0, times, orientation0=q0, method="exact")
+        w_ref, q_ref = exact_closed_form(moments, omega0, q0, times, dps=50)
+        assert sol.quaternion is not None
+        ew = np.linalg.norm(sol.omega - w_ref, axis=1) / np.linalg.norm(w_ref, axis=1)
+        eq = np.minimum(
+            np.linalg.norm(sol.quaternion - q_ref, axis=1),
+            np.linalg.norm(sol.quaternion + q_ref, axis=1),
+        )
+        rows.append(f"| {name} | {ew.max() / eps:.2f} | {eq.max() / eps:.2f} |")
+    return "\n".join(rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--times", type=int, default=200_000)
     parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--accuracy", action="store_true")
     args = parser.parse_args()
     print(run(args.times, args.repeats))
+    if args.accuracy:
+        print()
+        print(accuracy())
 
 
 if __name__ == "__main__":
