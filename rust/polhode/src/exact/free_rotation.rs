@@ -73,7 +73,7 @@ use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::carlson::{carlson_rf, carlson_rj};
 use super::dd::{agm1, cel, Dd};
-use super::elliptic::{ellipk_dd, Landen};
+use super::elliptic::{ellipf, ellipk_dd, Landen};
 use super::xd::{asinh_xd, exact_sum_a_b2_diff, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
@@ -253,6 +253,114 @@ struct Elliptic {
     j_half: Dd,
     /// `Jc(K) = int_0^K cn^2 / (1 + nu sn^2) = cel(k', 1 + nu, 1, 0)`.
     jc_quarter: Dd,
+    /// `J` in theta-function form, where the nome is small enough ([`ThetaJ`]).
+    theta: Option<ThetaJ>,
+}
+
+/// The largest nome `q = exp(-pi K'/K)` at which `J` is summed as a theta series (`m` up to
+/// about 0.995; at most 8 terms).
+const Q_THETA: f64 = 0.3;
+
+/// `J(w) = A w + B arg theta_4(z + i beta)`, `z = pi w / (2K)`, for `|w| <= K` (Jacobi's form of
+/// the integral of the third kind, Whittaker & Watson 22.74, with the parameter `i alpha`,
+/// `sc(alpha | 1 - m) = sqrt(nu / m)`, `beta = pi alpha / (2K)`), where
+/// `theta_4(z + i beta) = 1 + sum_n a_n cos 2nz - i sum_n b_n sin 2nz`,
+/// `a_n, b_n = (-1)^n q^(n^2) (e^(2 n beta) +- e^(-2 n beta))`. `A = J(2K)/2K` is the mean
+/// slope, `B` makes `J'(0) = 0`. The terms are formed from `gamma = K' - alpha =
+/// F(atan(1/sqrt(nu)) | 1 - m)` (each exponent a sum of positive terms) and the `b_n` for small
+/// `alpha` from `sinh`, so that no constant cancels; near `z = 0` the real part is
+/// `(1 + a_1) - 2 a_1 sin^2 z + ...` with `1 + a_1 = -expm1(-pi gamma / K) - e_1^-`.
+#[derive(Debug, Clone)]
+struct ThetaJ {
+    n: usize,
+    a: [f64; 8],
+    b: [f64; 8],
+    /// `1 + a_1`.
+    r0: f64,
+    /// `pi / K`: `2z = pi w / K`.
+    z_scale: f64,
+    slope: Dd,
+    b_coef: f64,
+}
+
+impl ThetaJ {
+    /// The constants for parameter `1 - mc` (`2^-54 <= sqrt(mc)`), quarter period `k`, `nu > 0`
+    /// and `J(2K) = j_half`; `None` if the nome is above [`Q_THETA`] or a constant is not finite.
+    fn new(mc: f64, k: Dd, nu: f64, j_half: Dd) -> Option<ThetaJ> {
+        if !(nu > 0.0 && nu.is_finite() && mc > 0.0 && mc < 1.0) {
+            return None;
+        }
+        let m = Dd::sum(1.0, -mc);
+        let kp = ellipk_dd(m);
+        let pk = (Dd::PI * kp / k).to_f64(); // pi K'/K = -ln q
+        if (-pk).exp() > Q_THETA {
+            return None;
+        }
+        let z_scale = (Dd::PI / k).to_f64();
+        let mf = m.to_f64();
+        // gamma = K' - alpha and alpha, each from its own F (no cancellation), times pi/K.
+        let g = ellipf((1.0 / nu.sqrt()).atan(), mf) * z_scale;
+        let al = ellipf((nu / mf).sqrt().atan(), mf) * z_scale;
+        let mut a = [0.0; 8];
+        let mut b = [0.0; 8];
+        let mut n = 0;
+        let mut r0 = 0.0;
+        for i in 1..=8usize {
+            let x = i as f64;
+            let e_plus = (-(x * (x - 1.0) * pk + x * g)).exp();
+            let e_minus = (-(x * (x + 1.0) * pk - x * g)).exp();
+            let sign = if i % 2 == 1 { -1.0 } else { 1.0 };
+            let bn = if x * al < 0.5 {
+                2.0 * (-(x * x) * pk).exp() * (x * al).sinh()
+            } else {
+                e_plus - e_minus
+            };
+            a[i - 1] = sign * (e_plus + e_minus);
+            b[i - 1] = sign * bn;
+            if i == 1 {
+                r0 = -(-g).exp_m1() - e_minus;
+            }
+            n = i;
+            if e_plus < 1e-18 {
+                break;
+            }
+        }
+        // B from J'(0) = 0: A + B (pi/2K) (-sum 2n b_n) / Re(0) = 0.
+        let re0 = r0 + a[1..n].iter().sum::<f64>();
+        let db: f64 = (0..n).map(|i| 2.0 * (i + 1) as f64 * b[i]).sum();
+        let slope = j_half / (k * 2.0);
+        let b_coef = slope.to_f64() * re0 * 2.0 / (z_scale * db);
+        let ok = a.iter().chain(&b).all(|x| x.is_finite())
+            && r0.is_finite()
+            && b_coef.is_finite()
+            && re0 > 0.0;
+        ok.then_some(ThetaJ {
+            n,
+            a,
+            b,
+            r0,
+            z_scale,
+            slope,
+            b_coef,
+        })
+    }
+
+    /// `J(w)` for `|w| <= K`.
+    #[inline]
+    fn j(&self, w: Dd) -> Dd {
+        let z = 0.5 * self.z_scale * w.to_f64();
+        let (sz, cz) = z.sin_cos();
+        let (s1, c1) = (2.0 * sz * cz, (cz - sz) * (cz + sz));
+        let mut re = self.r0 - 2.0 * self.a[0] * sz * sz;
+        let mut im = -self.b[0] * s1;
+        let (mut c, mut s) = (c1, s1);
+        for i in 1..self.n {
+            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
+            re += self.a[i] * c;
+            im -= self.b[i] * s;
+        }
+        self.slope * w + self.b_coef * im.atan2(re)
+    }
 }
 
 /// The evaluation of `sn, cn, dn` on `|v| <= K/2`, by `k'`.
@@ -800,16 +908,23 @@ impl FreeRotation {
                     k * (2.0 * sign(s0)) - f
                 };
             }
+            let functions = if kp_x.e >= -27 {
+                Functions::Landen
+            } else {
+                Functions::Corrected
+            };
+            let theta = if functions == Functions::Landen {
+                ThetaJ::new(mc, k, common.nu, j_half)
+            } else {
+                None
+            };
             Elliptic {
                 c: common,
                 mc,
                 kp,
                 kp_exp: 0,
-                functions: if kp_x.e >= -27 {
-                    Functions::Landen
-                } else {
-                    Functions::Corrected
-                },
+                functions,
+                theta,
                 landen: Landen::new(mc),
                 k,
                 inv_k: 1.0 / k.hi,
@@ -853,6 +968,7 @@ impl FreeRotation {
                 kp: kp.x,
                 kp_exp: kp.e,
                 functions: Functions::Hyperbolic,
+                theta: None,
                 landen: Landen::new(1.0),
                 k,
                 inv_k: 1.0 / k.hi,
@@ -1259,10 +1375,12 @@ impl Elliptic {
             Functions::Hyperbolic => self.reduced_hyperbolic(q, v, w),
             Functions::Landen => {
                 let (s, c, d) = self.landen.quarter(q, v.to_f64(), self.kp);
-                let jw = if WITH_J {
-                    self.j_reduced(w, s, c, d)
-                } else {
+                let jw = if !WITH_J {
                     Dd::ZERO
+                } else if let Some(theta) = &self.theta {
+                    theta.j(w)
+                } else {
+                    self.j_reduced(w, s, c, d)
                 };
                 (s, c, d, 0, jw)
             }
@@ -1445,6 +1563,45 @@ mod tests {
             }
         }
         assert!(zxz_half_angles([0.0, 0.0, 1.0], 0.3).is_none());
+    }
+
+    #[test]
+    fn theta_series_of_j_agrees_with_carlson() {
+        // J in theta-function form against the Carlson path (R_J; itself checked against
+        // mpmath through the motion's tests) over a period and far out, from m ~ 0.02 to the
+        // largest nome the series takes (m ~ 0.99), nu from 1e-6 to 1e6.
+        let q = UnitQuaternion::identity();
+        let mut used = 0;
+        for (moments, omega0) in [
+            ([1.0, 2.0, 3.0], [0.3, 0.5, 0.8]),
+            ([1.0, 2.0, 3.0], [0.8, 0.5, 0.3]),
+            ([2.0, 3.0, 6.0], [1.5, 0.2, 0.52]),
+            ([1.0, 1.000_001, 3.0], [0.3, 0.5, 0.8]),
+            ([1.0, 2.999_999, 3.0], [0.3, 0.5, 0.8]),
+            ([1.0, 1e3, 1e6], [0.3, 1e-3, 1e-6]),
+        ] {
+            let fr = FreeRotation::new(Vector3::from(moments), Vector3::from(omega0), q).unwrap();
+            let Motion::Elliptic(e) = &fr.motion else {
+                panic!("{moments:?}")
+            };
+            if e.theta.is_none() {
+                continue;
+            }
+            used += 1;
+            let mut carlson = (**e).clone();
+            carlson.theta = None;
+            let scale = (e.j_half * 0.5).to_f64().abs();
+            for i in -40..=40 {
+                let u = e.k * (0.05 * f64::from(i)) + e.k * 1e4;
+                let a = e.phase::<true>(u).3 - e.j_half * 5e3;
+                let b = carlson.phase::<true>(u).3 - e.j_half * 5e3;
+                assert!(
+                    (a - b).to_f64().abs() <= 8.0 * EPS * scale,
+                    "{moments:?} {omega0:?} {i}: {a:?} vs {b:?}"
+                );
+            }
+        }
+        assert!(used >= 4, "{used}");
     }
 
     #[test]
