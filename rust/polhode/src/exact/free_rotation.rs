@@ -257,9 +257,9 @@ struct Elliptic {
     theta: Option<ThetaJ>,
 }
 
-/// The largest nome `q = exp(-pi K'/K)` at which `J` is summed as a theta series (`m` up to
-/// about 0.995; at most 8 terms).
-const Q_THETA: f64 = 0.3;
+/// The largest nome `q = exp(-pi K'/K)` at which `J` is summed as a theta series (`1 - m` down
+/// to about 2e-6; at most 10 terms, the last below `q^(n (n - 1)) < 1e-18`).
+const Q_THETA: f64 = 0.5;
 
 /// `J(w) = A w + B arg theta_4(z + i beta)`, `z = pi w / (2K)`, for `|w| <= K` (Jacobi's form of
 /// the integral of the third kind, Whittaker & Watson 22.74, with the parameter `i alpha`,
@@ -273,8 +273,8 @@ const Q_THETA: f64 = 0.3;
 #[derive(Debug, Clone)]
 struct ThetaJ {
     n: usize,
-    a: [f64; 8],
-    b: [f64; 8],
+    a: [f64; 10],
+    b: [f64; 10],
     /// `1 + a_1`.
     r0: f64,
     /// `pi / K`: `2z = pi w / K`.
@@ -301,11 +301,11 @@ impl ThetaJ {
         // gamma = K' - alpha and alpha, each from its own F (no cancellation), times pi/K.
         let g = ellipf((1.0 / nu.sqrt()).atan(), mf) * z_scale;
         let al = ellipf((nu / mf).sqrt().atan(), mf) * z_scale;
-        let mut a = [0.0; 8];
-        let mut b = [0.0; 8];
+        let mut a = [0.0; 10];
+        let mut b = [0.0; 10];
         let mut n = 0;
         let mut r0 = 0.0;
-        for i in 1..=8usize {
+        for i in 1..=10usize {
             let x = i as f64;
             let e_plus = (-(x * (x - 1.0) * pk + x * g)).exp();
             let e_minus = (-(x * (x + 1.0) * pk - x * g)).exp();
@@ -1569,13 +1569,15 @@ mod tests {
     fn theta_series_of_j_agrees_with_carlson() {
         // J in theta-function form against the Carlson path (R_J; itself checked against
         // mpmath through the motion's tests) over a period and far out, from m ~ 0.02 to the
-        // largest nome the series takes (m ~ 0.99), nu from 1e-6 to 1e6.
+        // largest nome the series takes (q ~ 0.5, 1 - m ~ 2e-6), nu from 1e-6 to 1e6.
         let q = UnitQuaternion::identity();
         let mut used = 0;
         for (moments, omega0) in [
             ([1.0, 2.0, 3.0], [0.3, 0.5, 0.8]),
             ([1.0, 2.0, 3.0], [0.8, 0.5, 0.3]),
             ([2.0, 3.0, 6.0], [1.5, 0.2, 0.52]),
+            ([2.0, 3.0, 6.0], [1.5, 0.2, 0.500_5]),
+            ([2.0, 3.0, 6.0], [1.5, 0.2, 0.500_000_5]),
             ([1.0, 1.000_001, 3.0], [0.3, 0.5, 0.8]),
             ([1.0, 2.999_999, 3.0], [0.3, 0.5, 0.8]),
             ([1.0, 1e3, 1e6], [0.3, 1e-3, 1e-6]),
