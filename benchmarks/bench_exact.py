@@ -23,6 +23,7 @@ and ``tests/test_motion_hard_cases.py`` assert, to 10 eps).
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import statistics
 import sys
@@ -68,9 +69,11 @@ def run(n: int, repeats: int) -> str:
         m, lam = _parameter(moments, omega0)
         u = lam * t + 0.1
         calls = {
-            "full": lambda: ph.simulate(moments, omega0, t, method="exact"),
-            "omega": lambda: ph.simulate(moments, omega0, t, method="exact", orientation=False),
-            "ellipj": lambda: ellipj(u, m),
+            "full": functools.partial(ph.simulate, moments, omega0, t, method="exact"),
+            "omega": functools.partial(
+                ph.simulate, moments, omega0, t, method="exact", orientation=False
+            ),
+            "ellipj": functools.partial(ellipj, u, m),
         }
         times, _ = interleaved(calls, repeats)
         med = {k: statistics.median(v) / n * 1e9 for k, v in times.items()}
