@@ -354,6 +354,31 @@ def test_near_separatrix_decaying_components(moments, omega0):
     assert rel.max() <= ULP * EPS, rel.max(axis=0) / EPS
 
 
+THETA_RANGE = [
+    # The precession phase as a theta series (nome q <= 0.5): q from 0.01 to just below 0.5,
+    # and m -> 0 with nu = B1^2/B3^2 or I3 (I2 - I1) / (I1 (I3 - I2)) far from 1 (moments 1e-6
+    # apart).
+    ("generic, q ~ 0.01", (1.0, 2.0, 3.0), (0.3, 0.5, 0.8)),
+    ("q ~ 0.33", (2.0, 3.0, 6.0), (1.5, 0.2, 0.5005)),
+    ("q ~ 0.41", (2.0, 3.0, 6.0), (1.5, 0.2, 0.50005)),
+    ("q ~ 0.48", (2.0, 3.0, 6.0), (1.5, 0.2, 0.500005)),
+    ("I2 - I1 = 1e-6", (1.0, 1.000001, 3.0), (0.3, 0.5, 0.8)),
+    ("I3 - I2 = 1e-6", (1.0, 2.999999, 3.0), (0.3, 0.5, 0.8)),
+]
+
+
+@pytest.mark.parametrize(
+    ("label", "moments", "omega0"), THETA_RANGE, ids=[c[0] for c in THETA_RANGE]
+)
+def test_theta_series_phase(label, moments, omega0):
+    """Where the phase is summed as a theta series, omega and the attitude against the
+    closed form (mpmath) over a period and 1e4 periods out."""
+    p = float(exact_period(moments, omega0))
+    times = np.array([*FRACTIONS, 1e4 + 0.3]) * p
+    w_ref, q_ref = closed(moments, omega0, times, dps=30)
+    check_against(label, moments, omega0, times, w_ref, q_ref)
+
+
 # ---------------------------------------------------------------------------------------------
 # 4. Every order, every sign
 # ---------------------------------------------------------------------------------------------

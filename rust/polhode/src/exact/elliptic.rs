@@ -35,67 +35,100 @@ pub fn ellipk(mc: f64) -> f64 {
     }
 }
 
-/// `sn, cn, dn (v | m)` for `|v| <= K/2` and `0 < mc <= 1`, by the descending Landen (Gauss)
-/// transformation (DLMF 22.7.1-22.7.3) in the cancellation-free form
-/// `k_{n+1} = k_n^2 / (1 + k'_n)^2`, `1 - k_{n+1} = 2 k'_n / (1 + k'_n)`,
-/// `k'_{n+1} = 2 sqrt(k'_n) / (1 + k'_n)`, ending with the first-order expansion in `m`
-/// (A&S 16.13.1-16.13.3). On `|v| <= K/2` every quantity is positive and every step is a
-/// product, a quotient or a sum of positive numbers, so relative accuracy carries through.
-pub(crate) fn sncndn_core(v: f64, mc: f64) -> (f64, f64, f64) {
-    let z = v.abs();
-    let mut ks = [0.0; LEVELS];
-    let mut omks = [0.0; LEVELS];
-    let mut kp = mc.sqrt();
-    let mut k = (1.0 - mc).sqrt();
-    let mut zz = z;
-    let mut n = 0;
-    while k > K_STOP && n < LEVELS {
-        let opk = 1.0 + kp;
-        let r = k / opk;
-        let k1 = r * r;
-        ks[n] = k1;
-        omks[n] = 2.0 * kp / opk;
-        kp = 2.0 * kp.sqrt() / opk;
-        k = k1;
-        zz /= 1.0 + k1;
-        n += 1;
+/// The descending Landen (Gauss) chain of a parameter, formed once: the moduli `k_n`, the
+/// complements `1 - k_n` and the final `m = k_N^2` at which the first-order expansion is exact.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Landen {
+    n: usize,
+    ks: [f64; LEVELS],
+    omks: [f64; LEVELS],
+    m: f64,
+}
+
+impl Landen {
+    /// The chain for `0 < mc <= 1`: `k_{n+1} = k_n^2 / (1 + k'_n)^2`,
+    /// `1 - k_{n+1} = 2 k'_n / (1 + k'_n)`, `k'_{n+1} = 2 sqrt(k'_n) / (1 + k'_n)` (cancellation
+    /// free), until `k < 3e-5`.
+    pub(crate) fn new(mc: f64) -> Landen {
+        let mut ks = [0.0; LEVELS];
+        let mut omks = [0.0; LEVELS];
+        let mut kp = mc.sqrt();
+        let mut k = (1.0 - mc).sqrt();
+        let mut n = 0;
+        while k > K_STOP && n < LEVELS {
+            let opk = 1.0 + kp;
+            let r = k / opk;
+            let k1 = r * r;
+            ks[n] = k1;
+            omks[n] = 2.0 * kp / opk;
+            kp = 2.0 * kp.sqrt() / opk;
+            k = k1;
+            n += 1;
+        }
+        Landen {
+            n,
+            ks,
+            omks,
+            m: k * k,
+        }
     }
-    let m = k * k;
-    let (s0, c0) = zz.sin_cos();
-    let corr = 0.25 * m * (zz - s0 * c0);
-    let mut s = s0 - corr * c0;
-    let mut c = c0 + corr * s0;
-    let mut d = 1.0 - 0.5 * m * s0 * s0;
-    for i in (0..n).rev() {
-        let k = ks[i];
-        let s2 = s * s;
-        let ks2 = k * s2;
-        let den = 1.0 + ks2;
-        let num_d = if ks2 <= 0.5 {
-            1.0 - ks2
-        } else {
-            c * c + omks[i] * s2
-        };
-        let s1 = (1.0 + k) * s / den;
-        let c1 = c * d / den;
-        d = num_d / den;
-        s = s1;
-        c = c1;
+
+    /// `sn, cn, dn (v | m)` for `|v| <= K/2`, by the descending Landen (Gauss)
+    /// transformation (DLMF 22.7.1-22.7.3) in the cancellation-free form
+    /// `k_{n+1} = k_n^2 / (1 + k'_n)^2`, `1 - k_{n+1} = 2 k'_n / (1 + k'_n)`,
+    /// `k'_{n+1} = 2 sqrt(k'_n) / (1 + k'_n)`, ending with the first-order expansion in `m`
+    /// (A&S 16.13.1-16.13.3). On `|v| <= K/2` every quantity is positive and every step is a
+    /// product, a quotient or a sum of positive numbers, so relative accuracy carries through.
+    #[inline]
+    pub(crate) fn core(&self, v: f64) -> (f64, f64, f64) {
+        let mut zz = v.abs();
+        for k in &self.ks[..self.n] {
+            zz /= 1.0 + k;
+        }
+        let m = self.m;
+        let (s0, c0) = zz.sin_cos();
+        let corr = 0.25 * m * (zz - s0 * c0);
+        let mut s = s0 - corr * c0;
+        let mut c = c0 + corr * s0;
+        let mut d = 1.0 - 0.5 * m * s0 * s0;
+        for i in (0..self.n).rev() {
+            let k = self.ks[i];
+            let s2 = s * s;
+            let ks2 = k * s2;
+            let den = 1.0 + ks2;
+            let num_d = if ks2 <= 0.5 {
+                1.0 - ks2
+            } else {
+                c * c + self.omks[i] * s2
+            };
+            let s1 = (1.0 + k) * s / den;
+            let c1 = c * d / den;
+            d = num_d / den;
+            s = s1;
+            c = c1;
+        }
+        (s.copysign(v), c, d)
     }
-    (s.copysign(v), c, d)
+
+    /// `sn, cn, dn (q K + v | m)` (see [`sncndn_quarter`]): the chain formed once per
+    /// parameter, so that each argument costs one `sin_cos` and `N` steps.
+    #[inline]
+    pub(crate) fn quarter(&self, q: i64, v: f64, kp: f64) -> (f64, f64, f64) {
+        let (s, c, d) = self.core(v);
+        match q.rem_euclid(4) {
+            0 => (s, c, d),
+            1 => (c / d, -kp * s / d, kp / d),
+            2 => (-s, -c, d),
+            _ => (-c / d, kp * s / d, kp / d),
+        }
+    }
 }
 
 /// `sn, cn, dn (q K + v | m)` from the functions of `v` (`|v| <= K/2`) and the quarter-period
 /// index `q` (taken mod 4), with the shifts by `K` of DLMF 22.4.3:
 /// `sn(v + K) = cn v / dn v`, `cn(v + K) = -k' sn v / dn v`, `dn(v + K) = k' / dn v`.
 pub(crate) fn sncndn_quarter(q: i64, v: f64, mc: f64, kp: f64) -> (f64, f64, f64) {
-    let (s, c, d) = sncndn_core(v, mc);
-    match q.rem_euclid(4) {
-        0 => (s, c, d),
-        1 => (c / d, -kp * s / d, kp / d),
-        2 => (-s, -c, d),
-        _ => (-c / d, kp * s / d, kp / d),
-    }
+    Landen::new(mc).quarter(q, v, kp)
 }
 
 /// Splits `u = q K + v` with `|v| <= K/2` (up to rounding), the reduction done in

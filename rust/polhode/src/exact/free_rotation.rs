@@ -36,6 +36,12 @@
 //!   `G t/I3 + c (Pi(am u; n | m) - Pi(am u0; n | m))`, `c = G (I3 - I1)/(I1 I3 lambda)`, is the
 //!   same motion with polar axis `p`, but `Pi = F + n J` cancels for `n << -1`.)
 //!
+//! Where the nome `q = exp(-pi K'/K)` is at most 0.5, `J` is instead Jacobi's form of the integral
+//! of the third kind (Whittaker & Watson 22.74), `J(w) = A w + B arg theta_4(pi w / 2K + i beta)`
+//! on `|w| <= K`: a few terms of a theta series with constants formed once per motion
+//! ([`ThetaJ`]), the same function to a few ulp of `J(K)` (one `sin_cos`, one `atan2` and up to
+//! ten terms per time instead of the duplication steps of `R_J`).
+//!
 //! The phase `lambda t + u0`, the quarter period `K` and the per-period gains are carried in
 //! double-double, so the only error that grows with `t` is the rounding of `t` itself.
 //!
@@ -73,7 +79,7 @@ use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::carlson::{carlson_rf, carlson_rj};
 use super::dd::{agm1, cel, Dd};
-use super::elliptic::{ellipk_dd, reduce_quarter_dd, sncndn_quarter};
+use super::elliptic::{ellipf, ellipk_dd, Landen};
 use super::xd::{asinh_xd, exact_sum_a_b2_diff, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
 use crate::{Error, Result};
@@ -243,11 +249,124 @@ struct Elliptic {
     kp_exp: i32,
     /// How `sn, cn, dn` are evaluated (module doc).
     functions: Functions,
+    /// The Landen chain of `mc` (for [`Functions::Landen`]).
+    landen: Landen,
     k: Dd,
+    /// `1 / K` and `1 / 2K`, rounded: the reductions' first guesses of the quotients.
+    inv_k: f64,
+    inv_k2: f64,
     /// `J` over a half period `2K` of `u`: `2 cel(k', 1 + nu, 0, 1)`.
     j_half: Dd,
     /// `Jc(K) = int_0^K cn^2 / (1 + nu sn^2) = cel(k', 1 + nu, 1, 0)`.
     jc_quarter: Dd,
+    /// `J` in theta-function form, where the nome is small enough ([`ThetaJ`]).
+    theta: Option<ThetaJ>,
+}
+
+/// The largest nome `q = exp(-pi K'/K)` at which `J` is summed as a theta series (`1 - m` down
+/// to about 2e-6; at most 10 terms, the last below `q^(n (n - 1)) < 1e-18`).
+const Q_THETA: f64 = 0.5;
+
+/// `J(w) = A w + B arg theta_4(z + i beta)`, `z = pi w / (2K)`, for `|w| <= K` (Jacobi's form of
+/// the integral of the third kind, Whittaker & Watson 22.74, with the parameter `i alpha`,
+/// `sc(alpha | 1 - m) = sqrt(nu / m)`, `beta = pi alpha / (2K)`), where
+/// `theta_4(z + i beta) = 1 + sum_n a_n cos 2nz - i sum_n b_n sin 2nz`,
+/// `a_n, b_n = (-1)^n q^(n^2) (e^(2 n beta) +- e^(-2 n beta))`. `A = J(2K)/2K` is the mean
+/// slope, `B` makes `J'(0) = 0`. The terms are formed from `gamma = K' - alpha =
+/// F(atan(1/sqrt(nu)) | 1 - m)` (each exponent a sum of positive terms) and the `b_n` for small
+/// `alpha` from `sinh`, so that no constant cancels; near `z = 0` the real part is
+/// `(1 + a_1) - 2 a_1 sin^2 z + ...` with `1 + a_1 = -expm1(-pi gamma / K) - e_1^-`.
+#[derive(Debug, Clone)]
+struct ThetaJ {
+    n: usize,
+    a: [f64; 10],
+    b: [f64; 10],
+    /// `1 + a_1`.
+    r0: f64,
+    /// `pi / K`: `2z = pi w / K`.
+    z_scale: f64,
+    slope: Dd,
+    b_coef: f64,
+}
+
+impl ThetaJ {
+    /// The constants for parameter `1 - mc` (`2^-54 <= sqrt(mc)`), quarter period `k`, `nu > 0`
+    /// and `J(2K) = j_half`; `None` if the nome is above [`Q_THETA`] or a constant is not finite.
+    fn new(mc: f64, k: Dd, nu: f64, j_half: Dd) -> Option<ThetaJ> {
+        if !(nu > 0.0 && nu.is_finite() && mc > 0.0 && mc < 1.0) {
+            return None;
+        }
+        let m = Dd::sum(1.0, -mc);
+        let kp = ellipk_dd(m);
+        let pk = (Dd::PI * kp / k).to_f64(); // pi K'/K = -ln q
+        if (-pk).exp() > Q_THETA {
+            return None;
+        }
+        let z_scale = (Dd::PI / k).to_f64();
+        let mf = m.to_f64();
+        // gamma = K' - alpha and alpha, each from its own F (no cancellation), times pi/K.
+        let g = ellipf((1.0 / nu.sqrt()).atan(), mf) * z_scale;
+        let al = ellipf((nu / mf).sqrt().atan(), mf) * z_scale;
+        let mut a = [0.0; 10];
+        let mut b = [0.0; 10];
+        let mut n = 0;
+        let mut r0 = 0.0;
+        for i in 1..=10usize {
+            let x = i as f64;
+            let e_plus = (-(x * (x - 1.0) * pk + x * g)).exp();
+            let e_minus = (-(x * (x + 1.0) * pk - x * g)).exp();
+            let sign = if i % 2 == 1 { -1.0 } else { 1.0 };
+            let bn = if x * al < 0.5 {
+                2.0 * (-(x * x) * pk).exp() * (x * al).sinh()
+            } else {
+                e_plus - e_minus
+            };
+            a[i - 1] = sign * (e_plus + e_minus);
+            b[i - 1] = sign * bn;
+            if i == 1 {
+                r0 = -(-g).exp_m1() - e_minus;
+            }
+            n = i;
+            if e_plus < 1e-18 {
+                break;
+            }
+        }
+        // B from J'(0) = 0: A + B (pi/2K) (-sum 2n b_n) / Re(0) = 0.
+        let re0 = r0 + a[1..n].iter().sum::<f64>();
+        let db: f64 = (0..n).map(|i| 2.0 * (i + 1) as f64 * b[i]).sum();
+        let slope = j_half / (k * 2.0);
+        let b_coef = slope.to_f64() * re0 * 2.0 / (z_scale * db);
+        let ok = a.iter().chain(&b).all(|x| x.is_finite())
+            && r0.is_finite()
+            && b_coef.is_finite()
+            && re0 > 0.0;
+        ok.then_some(ThetaJ {
+            n,
+            a,
+            b,
+            r0,
+            z_scale,
+            slope,
+            b_coef,
+        })
+    }
+
+    /// `J(w)` for `|w| <= K`.
+    #[inline]
+    fn j(&self, w: Dd) -> Dd {
+        let z = 0.5 * self.z_scale * w.to_f64();
+        let (sz, cz) = z.sin_cos();
+        let (s1, c1) = (2.0 * sz * cz, (cz - sz) * (cz + sz));
+        let mut re = self.r0 - 2.0 * self.a[0] * sz * sz;
+        let mut im = -self.b[0] * s1;
+        let (mut c, mut s) = (c1, s1);
+        for i in 1..self.n {
+            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
+            re += self.a[i] * c;
+            im -= self.b[i] * s;
+        }
+        self.slope * w + self.b_coef * im.atan2(re)
+    }
 }
 
 /// The evaluation of `sn, cn, dn` on `|v| <= K/2`, by `k'`.
@@ -270,8 +389,16 @@ struct Separatrix {
 
 /// `x` reduced into `[-pi, pi]`, from a double-double angle.
 fn wrap(x: Dd) -> f64 {
-    let j = (x / Dd::TAU).round();
-    (x - Dd::TAU * j.hi - Dd::TAU * j.lo).to_f64()
+    // The quotient by 2 pi rounded from a double product (a few turns off at most when |x| is
+    // large), then once more from the remainder, which is small: exact.
+    let inv = 1.0 / std::f64::consts::TAU;
+    let r = x - Dd::TAU * (x.hi * inv).round();
+    let j = (r.hi * inv).round();
+    if j == 0.0 {
+        r.to_f64()
+    } else {
+        (r - Dd::TAU * j).to_f64()
+    }
 }
 
 fn qz(angle: f64) -> UnitQuaternion<f64> {
@@ -302,6 +429,43 @@ fn theta_psi(e: [Sd; 3]) -> (f64, f64) {
         Sd::atan2(Sd::hypot(e[0], e[1]), e[2]),
         Sd::atan2(e[0], e[1]),
     )
+}
+
+/// `qz(phi) qx(theta) qz(psi)` for the z-x-z Euler angles `(theta, psi)` of `e` (as
+/// [`theta_psi`] gives them) and `phi`, without forming `theta` and `psi`: their half angles
+/// from `G +- e_z` and `h +- e_y` (`h = hypot(e_x, e_y)`, `G = hypot(h, e_z)`), each from the
+/// sum without cancellation and the other from `sin x = 2 sin(x/2) cos(x/2)`, on the same
+/// branches (`theta/2` in `[0, pi/2]`, `psi/2` in `(-pi/2, pi/2]`). `None` if `h` is zero or
+/// not finite.
+fn zxz_half_angles(e: [f64; 3], phi: f64) -> Option<UnitQuaternion<f64>> {
+    let h = e[0].hypot(e[1]);
+    if !(h > 0.0 && h.is_finite()) {
+        return None;
+    }
+    let g = h.hypot(e[2]);
+    let (ct, st) = if e[2] >= 0.0 {
+        let c = ((g + e[2]) / (2.0 * g)).sqrt();
+        (c, h / (2.0 * g * c))
+    } else {
+        let s = ((g - e[2]) / (2.0 * g)).sqrt();
+        (h / (2.0 * g * s), s)
+    };
+    let (cp, sp) = if e[1] >= 0.0 {
+        let c = ((h + e[1]) / (2.0 * h)).sqrt();
+        (c, e[0] / (2.0 * h * c))
+    } else {
+        let s = ((h - e[1]) / (2.0 * h)).sqrt().copysign(e[0]);
+        (e[0] / (2.0 * h * s), s)
+    };
+    let (sf, cf) = (0.5 * phi).sin_cos();
+    let (c_sum, s_sum) = (cf * cp - sf * sp, sf * cp + cf * sp);
+    let (c_diff, s_diff) = (cf * cp + sf * sp, sf * cp - cf * sp);
+    Some(UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+        ct * c_sum,
+        st * c_diff,
+        st * s_diff,
+        ct * s_sum,
+    )))
 }
 
 /// `(tanh u, sech u)` without overflow (double precision; for the small-`u` branch of `J`).
@@ -750,17 +914,27 @@ impl FreeRotation {
                     k * (2.0 * sign(s0)) - f
                 };
             }
+            let functions = if kp_x.e >= -27 {
+                Functions::Landen
+            } else {
+                Functions::Corrected
+            };
+            let theta = if functions == Functions::Landen {
+                ThetaJ::new(mc, k, common.nu, j_half)
+            } else {
+                None
+            };
             Elliptic {
                 c: common,
                 mc,
                 kp,
                 kp_exp: 0,
-                functions: if kp_x.e >= -27 {
-                    Functions::Landen
-                } else {
-                    Functions::Corrected
-                },
+                functions,
+                theta,
+                landen: Landen::new(mc),
                 k,
+                inv_k: 1.0 / k.hi,
+                inv_k2: 0.5 / k.hi,
                 j_half,
                 jc_quarter,
             }
@@ -800,7 +974,11 @@ impl FreeRotation {
                 kp: kp.x,
                 kp_exp: kp.e,
                 functions: Functions::Hyperbolic,
+                theta: None,
+                landen: Landen::new(1.0),
                 k,
+                inv_k: 1.0 / k.hi,
+                inv_k2: 0.5 / k.hi,
                 j_half,
                 jc_quarter,
             }
@@ -812,7 +990,7 @@ impl FreeRotation {
             // |cn| <= |sn| (well conditioned there, cn(K - v) = k' sd v), on sn elsewhere.
             let c0 = m1.div(b1).to_f64();
             let s0 = m2.mul_f64(ell.c.s[1]).div(b2).to_f64();
-            let (s, c, d, _, _) = ell.phase(ell.c.u(0.0));
+            let (s, c, d, _, _) = ell.phase::<false>(ell.c.u(0.0));
             let delta = if c0.abs() <= s0.abs() {
                 (c - c0) / (s * d)
             } else {
@@ -820,7 +998,7 @@ impl FreeRotation {
             };
             ell.c.u0 = ell.c.u0 + delta;
         }
-        ell.c.j0 = ell.phase(ell.c.u(0.0)).3;
+        ell.c.j0 = ell.phase::<true>(ell.c.u(0.0)).3;
         // The fastest angle: the precession or the phase of omega, 2 pi lambda / 4K.
         let omega_rate = (lambda * Xd::from_dd(Dd::TAU)) / Xd::from_dd(ell.k * 4.0);
         let rate = if phi_rate.abs_lt(omega_rate) {
@@ -897,7 +1075,7 @@ impl FreeRotation {
             Motion::Steady { .. } => self.omega0,
             Motion::Symmetric(s) => s.omega(&self.omega0, t),
             Motion::Elliptic(e) => {
-                let (sn, cn, dn, _, kappa) = e.phase(e.c.u(t));
+                let (sn, cn, dn, _, kappa) = e.phase::<false>(e.c.u(t));
                 e.c.omega([cn, sn, dn], kappa)
             }
             Motion::Separatrix(s) => {
@@ -931,7 +1109,7 @@ impl FreeRotation {
             }
             Motion::Elliptic(e) => {
                 let u = e.c.u(t);
-                let (sn, cn, dn, j, kappa) = e.phase(u);
+                let (sn, cn, dn, j, kappa) = e.phase::<true>(u);
                 e.c.state(t, [cn, sn, dn], kappa, j)
             }
             Motion::Separatrix(s) => {
@@ -1128,27 +1306,61 @@ impl Common {
         } else {
             m
         };
-        let (theta, psi) = theta_psi(euler);
         let phi = wrap(self.base_rate * ldexp(t, self.rho) + self.coef * (j - self.j0));
-        let q = self.q_l * qz(phi) * qx(theta) * qz(psi) * self.q_e_inv;
-        (self.omega(f, kappa), q)
+        let e = if euler[0].e == euler[1].e && euler[1].e == euler[2].e {
+            zxz_half_angles([euler[0].x, euler[1].x, euler[2].x], phi)
+        } else {
+            None
+        };
+        let q_euler = e.unwrap_or_else(|| {
+            let (theta, psi) = theta_psi(euler);
+            qz(phi) * qx(theta) * qz(psi)
+        });
+        (self.omega(f, kappa), self.q_l * q_euler * self.q_e_inv)
     }
 }
 
 impl Elliptic {
-    /// `(sn, cn, dn)` and `J` at the phase `u + u0_q K`, with `cn` and `dn` in units of
-    /// `2^kappa`.
-    fn phase(&self, u: Dd) -> (f64, f64, f64, Dd, i32) {
-        // u + u0_q K = 2 K j + w, |w| <= K; w = q K + v, |v| <= K/2.
-        let (j, q, v, w) = if self.c.u0_q == 0 {
+    /// `u = q K + v` with `|v| <= K/2` (up to rounding), in double-double (exact for `|u|` up
+    /// to about `2^50 K`): the quotient from a double product, corrected by one where it is off.
+    fn reduce_quarter(&self, u: Dd) -> (i64, Dd) {
+        let k = self.k;
+        let mut q = (u.hi * self.inv_k).round();
+        let mut v = u - k * q;
+        for _ in 0..2 {
+            if v.hi > 0.5 * k.hi {
+                q += 1.0;
+            } else if v.hi < -0.5 * k.hi {
+                q -= 1.0;
+            } else {
+                break;
+            }
+            v = u - k * q;
+        }
+        (q as i64, v)
+    }
+
+    /// `u + u0_q K = 2 K j + w`, `|w| <= K`; `w = q K + v`, `|v| <= K/2`: `(j, q, v, w)`.
+    fn reduce(&self, u: Dd) -> (f64, i64, Dd, Dd) {
+        if self.c.u0_q == 0 {
             let k2 = self.k * 2.0;
-            let j = (u / k2).round();
-            let w = u - k2 * j.hi - k2 * j.lo;
-            let (q, v) = reduce_quarter_dd(w, self.k);
+            let mut j = (u.hi * self.inv_k2).round();
+            let mut w = u - k2 * j;
+            for _ in 0..2 {
+                if w.hi > self.k.hi {
+                    j += 1.0;
+                } else if w.hi < -self.k.hi {
+                    j -= 1.0;
+                } else {
+                    break;
+                }
+                w = u - k2 * j;
+            }
+            let (q, v) = self.reduce_quarter(w);
             (j, q, v, w)
         } else {
             // The quarters of u0 are added as an integer, so that v keeps its digits.
-            let (qr, v) = reduce_quarter_dd(u, self.k);
+            let (qr, v) = self.reduce_quarter(u);
             let qt = qr + self.c.u0_q;
             let (j, q) = if qt.rem_euclid(2) == 0 {
                 (qt.div_euclid(2), 0)
@@ -1157,25 +1369,43 @@ impl Elliptic {
             } else {
                 ((qt - 1).div_euclid(2), 1)
             };
-            (Dd::new(j as f64), q, v, self.k * (q as f64) + v)
-        };
+            (j as f64, q, v, self.k * (q as f64) + v)
+        }
+    }
+
+    /// `(sn, cn, dn)` and (if `WITH_J`, else zero) `J` at the phase `u + u0_q K`, with `cn`
+    /// and `dn` in units of `2^kappa`.
+    fn phase<const WITH_J: bool>(&self, u: Dd) -> (f64, f64, f64, Dd, i32) {
+        let (j, q, v, w) = self.reduce(u);
         let (s, c, d, kappa, jw) = match self.functions {
             Functions::Hyperbolic => self.reduced_hyperbolic(q, v, w),
             Functions::Landen => {
-                let (s, c, d) = sncndn_quarter(q, v.to_f64(), self.mc, self.kp);
-                (s, c, d, 0, self.j_reduced(w, s, c, d))
+                let (s, c, d) = self.landen.quarter(q, v.to_f64(), self.kp);
+                let jw = if !WITH_J {
+                    Dd::ZERO
+                } else if let Some(theta) = &self.theta {
+                    theta.j(w)
+                } else {
+                    self.j_reduced(w, s, c, d)
+                };
+                (s, c, d, 0, jw)
             }
             Functions::Corrected => {
                 let (s, c, d) = self.corrected(q, v);
-                (s, c, d, 0, self.j_reduced(w, s, c, d))
+                let jw = if WITH_J {
+                    self.j_reduced(w, s, c, d)
+                } else {
+                    Dd::ZERO
+                };
+                (s, c, d, 0, jw)
             }
         };
-        let jj = self.j_half * j.hi + self.j_half * j.lo + jw;
-        let sg = if j.to_f64().rem_euclid(2.0) == 1.0 {
-            -1.0
+        let jj = if WITH_J {
+            self.j_half * j + jw
         } else {
-            1.0
+            Dd::ZERO
         };
+        let sg = if j.rem_euclid(2.0) == 1.0 { -1.0 } else { 1.0 };
         (sg * s, sg * c, d, jj, kappa)
     }
 
@@ -1312,10 +1542,92 @@ mod tests {
     }
 
     #[test]
+    fn half_angles_are_the_euler_product() {
+        // Against qz(phi) qx(theta) qz(psi) from the angles, on every branch: e_z and e_y of
+        // both signs, e_x = +-0 on the negative y axis (psi = +-pi), theta near 0 and pi.
+        let cases = [
+            [0.3, 0.5, 0.8],
+            [-0.3, 0.5, -0.8],
+            [0.3, -0.5, 0.8],
+            [-0.3, -0.5, -0.8],
+            [0.0, -0.5, 0.1],
+            [-0.0, -0.5, 0.1],
+            [1e-9, 2e-9, 1.0],
+            [1e-9, -2e-9, -1.0],
+            [2.0, 0.0, 0.0],
+        ];
+        for e in cases {
+            for phi in [0.0, 1.0, -3.0, std::f64::consts::PI] {
+                let sd = e.map(|x| Sd::new(x, 0));
+                let (theta, psi) = theta_psi(sd);
+                let want = qz(phi) * qx(theta) * qz(psi);
+                let got = zxz_half_angles(e, phi).unwrap();
+                assert!(
+                    (got.coords - want.coords).norm() <= 4.0 * EPS,
+                    "{e:?} {phi}: {got:?} vs {want:?}"
+                );
+            }
+        }
+        assert!(zxz_half_angles([0.0, 0.0, 1.0], 0.3).is_none());
+    }
+
+    #[test]
+    fn theta_series_of_j_agrees_with_carlson() {
+        // J in theta-function form against the Carlson path (R_J; itself checked against
+        // mpmath through the motion's tests) over a period and far out, from m ~ 0.02 to the
+        // largest nome the series takes (q ~ 0.5, 1 - m ~ 2e-6), nu from 1e-6 to 1e6.
+        let q = UnitQuaternion::identity();
+        let mut used = 0;
+        for (moments, omega0) in [
+            ([1.0, 2.0, 3.0], [0.3, 0.5, 0.8]),
+            ([1.0, 2.0, 3.0], [0.8, 0.5, 0.3]),
+            ([2.0, 3.0, 6.0], [1.5, 0.2, 0.52]),
+            ([2.0, 3.0, 6.0], [1.5, 0.2, 0.500_5]),
+            ([2.0, 3.0, 6.0], [1.5, 0.2, 0.500_000_5]),
+            ([1.0, 1.000_001, 3.0], [0.3, 0.5, 0.8]),
+            ([1.0, 2.999_999, 3.0], [0.3, 0.5, 0.8]),
+            ([1.0, 1e3, 1e6], [0.3, 1e-3, 1e-6]),
+        ] {
+            let fr = FreeRotation::new(Vector3::from(moments), Vector3::from(omega0), q).unwrap();
+            let Motion::Elliptic(e) = &fr.motion else {
+                panic!("{moments:?}")
+            };
+            if e.theta.is_none() {
+                continue;
+            }
+            used += 1;
+            let mut carlson = (**e).clone();
+            carlson.theta = None;
+            let scale = (e.j_half * 0.5).to_f64().abs();
+            for i in -40..=40 {
+                let u = e.k * (0.05 * f64::from(i)) + e.k * 1e4;
+                let a = e.phase::<true>(u).3 - e.j_half * 5e3;
+                let b = carlson.phase::<true>(u).3 - e.j_half * 5e3;
+                assert!(
+                    (a - b).to_f64().abs() <= 8.0 * EPS * scale,
+                    "{moments:?} {omega0:?} {i}: {a:?} vs {b:?}"
+                );
+            }
+        }
+        assert!(used >= 4, "{used}");
+    }
+
+    #[test]
     fn wrap_reduces_double_double_angles() {
         let x = Dd::TAU * 1e12 + 0.25;
         assert!((wrap(x) - 0.25).abs() < 1e-15);
         assert!((wrap(Dd::new(-4.0)) - (-4.0 + std::f64::consts::TAU)).abs() < 1e-15);
+        // Far out, where the double quotient by 2 pi can be off by one: the remainder is still
+        // in [-pi, pi] and exact to the rounding of x.
+        for k in [1e14, 1e15, 3e15] {
+            let near_pi = std::f64::consts::PI - 1e-12;
+            for r in [near_pi, -near_pi, 3.0, -3.1, 0.5] {
+                let x = Dd::TAU * k + r;
+                let w = wrap(x);
+                assert!(w.abs() <= std::f64::consts::PI, "{k} {r}: {w}");
+                assert!((w - r).abs() < 1e-14, "{k} {r}: {w}");
+            }
+        }
     }
 
     const EPS: f64 = f64::EPSILON;
