@@ -143,7 +143,13 @@ impl Quantity {
     /// Numbers per output time, for a run with `rotors` rotors (1 for a scalar).
     #[must_use]
     pub fn width(self, rotors: usize) -> usize {
-        self.shape(rotors).iter().product()
+        // The product of `shape`, without its allocation: this runs per output and body.
+        match self {
+            Quantity::Quaternion => 4,
+            Quantity::Energy => 1,
+            Quantity::RotorRates => 3 * rotors,
+            _ => 3,
+        }
     }
 
     /// Whether it needs the orientation (absent without it).
@@ -222,8 +228,11 @@ impl Sample<'_> {
 
 /// One body's rows of every column, written output time by output time.
 struct Rows<'a> {
+    /// The body.
+    i: usize,
     columns: &'a [Quantity],
-    rows: Vec<&'a mut [f64]>,
+    /// Each column, with the numbers per body.
+    shared: &'a [(Column, usize)],
     rotors: usize,
     /// The output times.
     t: &'a [f64],
@@ -233,9 +242,14 @@ struct Rows<'a> {
 
 impl Rows<'_> {
     /// Writes every quantity of `sample`, the state at output time `j`.
-    fn write(&mut self, j: usize, sample: &Sample) -> Result<()> {
-        for (quantity, row) in self.columns.iter().zip(self.rows.iter_mut()) {
+    ///
+    /// # Safety
+    /// No other `Rows` of the same body `i` is alive (the bodies' ranges are disjoint).
+    unsafe fn write(&mut self, j: usize, sample: &Sample) -> Result<()> {
+        for (quantity, &(column, len)) in self.columns.iter().zip(self.shared) {
             let w = quantity.width(self.rotors);
+            // SAFETY: body i's range, by the caller's contract.
+            let row = unsafe { column.rows(self.i, len) };
             let out = &mut row[j * w..(j + 1) * w];
             sample.write(*quantity, out, &mut self.previous);
             // omega is finite (the integration checks it), but I omega and T can
@@ -687,16 +701,14 @@ pub fn simulate(
             monitor,
         };
         let mut rows = Rows {
+            i,
             columns: &columns,
-            rows: shared
-                .iter()
-                // SAFETY: body i's ranges; every i is visited once.
-                .map(|&(column, len)| unsafe { column.rows(i, len) })
-                .collect(),
+            shared: &shared,
             rotors,
             t,
             previous: None,
         };
+        // SAFETY: body i's ranges; every i is visited once.
         unsafe { moments_column.rows(i, 3) }.copy_from_slice(body.moments.moments().as_slice());
         let mut write = |j: usize, sample: Sample| -> Result<()> {
             // Writing millions of outputs takes a while: looks at the monitor as a run does.
@@ -705,7 +717,8 @@ pub fn simulate(
                     monitor.look()?;
                 }
             }
-            rows.write(j, &sample)
+            // SAFETY: body i's rows, written by this call alone.
+            unsafe { rows.write(j, &sample) }
         };
         if rotors > 0 {
             let frame = body.frame.map_or_else(Matrix3::identity, |f| f.matrix);
@@ -775,12 +788,9 @@ pub fn simulate(
                     unsafe { moments_column.rows(*i, 3) }
                         .copy_from_slice(body.moments.moments().as_slice());
                     Rows {
+                        i: *i,
                         columns: &columns,
-                        rows: shared
-                            .iter()
-                            // SAFETY: as above.
-                            .map(|&(column, len)| unsafe { column.rows(*i, len) })
-                            .collect(),
+                        shared: &shared,
                         rotors,
                         t,
                         previous: None,
@@ -806,7 +816,8 @@ pub fn simulate(
                             orientation: q.as_ref(),
                             rotors: None,
                         };
-                        if let Err(error) = rows.write(j, &sample) {
+                        // SAFETY: the body's rows, written by its lane alone.
+                        if let Err(error) = unsafe { rows.write(j, &sample) } {
                             *pending = Some(error);
                         }
                     }

@@ -32,33 +32,70 @@ pub(crate) const LANES: usize = 4;
 /// A set of lanes, bit `l` for lane `l`.
 type Mask = u32;
 
+/// The storage of an [`X`]: on x86-64 the 256-bit vector type, which makes the compiler carry
+/// the state from step to step as vectors (so that it vectorises each step's arithmetic, lane
+/// by lane, rather than keeping 28 scalars); the arithmetic itself is written on `[f64; 4]`.
+#[cfg(target_arch = "x86_64")]
+type Raw = std::arch::x86_64::__m256d;
+#[cfg(not(target_arch = "x86_64"))]
+type Raw = [f64; LANES];
+
 /// One `f64` per lane; arithmetic is lane by lane.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 #[repr(transparent)]
-pub(crate) struct X(pub(crate) [f64; LANES]);
+pub(crate) struct X(Raw);
 
 impl X {
     #[inline(always)]
+    fn from_lanes(v: [f64; LANES]) -> Self {
+        // SAFETY: both are 4 f64, any bits valid.
+        #[allow(clippy::useless_transmute)]
+        X(unsafe { std::mem::transmute::<[f64; LANES], Raw>(v) })
+    }
+
+    /// The lanes.
+    #[inline(always)]
+    pub(crate) fn lanes(self) -> [f64; LANES] {
+        // SAFETY: as in `from_lanes`.
+        #[allow(clippy::useless_transmute)]
+        unsafe {
+            std::mem::transmute::<Raw, [f64; LANES]>(self.0)
+        }
+    }
+
+    #[inline(always)]
     fn splat(v: f64) -> Self {
-        X([v; LANES])
+        X::from_lanes([v; LANES])
+    }
+
+    #[inline(always)]
+    fn lane(self, l: usize) -> f64 {
+        self.lanes()[l]
+    }
+
+    #[inline(always)]
+    fn set_lane(&mut self, l: usize, v: f64) {
+        let mut a = self.lanes();
+        a[l] = v;
+        *self = X::from_lanes(a);
     }
 
     #[inline(always)]
     fn map(self, f: impl Fn(f64) -> f64) -> Self {
-        let mut r = self.0;
+        let mut r = self.lanes();
         for v in &mut r {
             *v = f(*v);
         }
-        X(r)
+        X::from_lanes(r)
     }
 
     #[inline(always)]
     fn zip(self, o: X, f: impl Fn(f64, f64) -> f64) -> Self {
-        let mut r = self.0;
+        let (mut r, o) = (self.lanes(), o.lanes());
         for l in 0..LANES {
-            r[l] = f(r[l], o.0[l]);
+            r[l] = f(r[l], o[l]);
         }
-        X(r)
+        X::from_lanes(r)
     }
 
     #[inline(always)]
@@ -80,9 +117,21 @@ impl X {
     /// The lanes where `f` holds.
     #[inline(always)]
     fn mask(self, f: impl Fn(f64) -> bool) -> Mask {
+        let a = self.lanes();
         let mut m = 0;
         for l in 0..LANES {
-            m |= Mask::from(f(self.0[l])) << l;
+            m |= Mask::from(f(a[l])) << l;
+        }
+        m
+    }
+
+    /// The lanes where `f(self, o)` holds.
+    #[inline(always)]
+    fn mask2(self, o: X, f: impl Fn(f64, f64) -> bool) -> Mask {
+        let (a, b) = (self.lanes(), o.lanes());
+        let mut m = 0;
+        for l in 0..LANES {
+            m |= Mask::from(f(a[l], b[l])) << l;
         }
         m
     }
@@ -90,13 +139,13 @@ impl X {
     /// `a` in the lanes of `mask`, `b` elsewhere.
     #[inline(always)]
     fn select(mask: Mask, a: X, b: X) -> Self {
-        let mut r = b.0;
+        let (a, mut r) = (a.lanes(), b.lanes());
         for l in 0..LANES {
             if mask >> l & 1 != 0 {
-                r[l] = a.0[l];
+                r[l] = a[l];
             }
         }
-        X(r)
+        X::from_lanes(r)
     }
 }
 
@@ -147,12 +196,12 @@ type Vars = (V3, V4);
 /// Lane `l` of `v`.
 #[inline(always)]
 fn lane3(v: &V3, l: usize) -> Vector3<f64> {
-    Vector3::new(v[0].0[l], v[1].0[l], v[2].0[l])
+    Vector3::new(v[0].lane(l), v[1].lane(l), v[2].lane(l))
 }
 
 #[inline(always)]
 fn lane4(v: &V4, l: usize) -> Vector4<f64> {
-    Vector4::new(v[0].0[l], v[1].0[l], v[2].0[l], v[3].0[l])
+    Vector4::new(v[0].lane(l), v[1].lane(l), v[2].lane(l), v[3].lane(l))
 }
 
 /// Per-lane vectors (`x[l]` to lane `l`), lanes past `x.len()` repeating lane 0.
@@ -161,7 +210,7 @@ fn gather3(x: &[Vector3<f64>]) -> V3 {
     for l in 0..LANES {
         let xl = x.get(l).unwrap_or(&x[0]);
         for i in 0..3 {
-            v[i].0[l] = xl[i];
+            v[i].set_lane(l, xl[i]);
         }
     }
     v
@@ -172,7 +221,7 @@ fn gather4(x: &[Vector4<f64>]) -> V4 {
     for l in 0..LANES {
         let xl = x.get(l).unwrap_or(&x[0]);
         for i in 0..4 {
-            v[i].0[l] = xl[i];
+            v[i].set_lane(l, xl[i]);
         }
     }
     v
@@ -266,63 +315,72 @@ struct Rk4<const ATT: bool> {
     since: u32,
 }
 
-impl<const ATT: bool> Rk4<ATT> {
-    /// `Moments::euler_rhs` and `quaternion_rate`.
-    #[inline(always)]
-    fn rate(&self, w: &V3, q: &V4) -> (V3, V4) {
-        let e = &self.euler;
-        let dw = [e[0] * w[1] * w[2], e[1] * w[2] * w[0], e[2] * w[0] * w[1]];
-        if !ATT {
-            return (dw, [X::splat(0.0); 4]);
-        }
-        let (x, y, z, s) = (q[0], q[1], q[2], q[3]);
-        let (a, b, c) = (w[0], w[1], w[2]);
-        let dq = [
-            0.5 * (s * a + y * c - z * b),
-            0.5 * (s * b + z * a - x * c),
-            0.5 * (s * c + x * b - y * a),
-            -0.5 * (x * a + y * b + z * c),
-        ];
-        (dw, dq)
-    }
-}
-
-#[inline(always)]
-fn axpy3(y: &V3, k: &V3, h: f64) -> V3 {
-    [y[0] + k[0] * h, y[1] + k[1] * h, y[2] + k[2] * h]
-}
-
-#[inline(always)]
-fn axpy4(y: &V4, k: &V4, h: f64) -> V4 {
-    [
-        y[0] + k[0] * h,
-        y[1] + k[1] * h,
-        y[2] + k[2] * h,
-        y[3] + k[3] * h,
-    ]
-}
-
 impl<const ATT: bool> LaneStepper for Rk4<ATT> {
+    /// Written as a loop over the lanes of the scalar step (`super::rk4`, `Moments::euler_rhs`,
+    /// `quaternion_rate`) on arrays, which the compiler vectorises as a whole.
     #[inline(always)]
     fn step(&mut self, (w, q): &mut Vars, h: f64, _live: Mask) -> Mask {
+        let mut wa = [w[0].lanes(), w[1].lanes(), w[2].lanes()];
+        let mut qa = [q[0].lanes(), q[1].lanes(), q[2].lanes(), q[3].lanes()];
+        let e = [
+            self.euler[0].lanes(),
+            self.euler[1].lanes(),
+            self.euler[2].lanes(),
+        ];
         let half = 0.5 * h;
-        let (w0, q0) = (*w, *q);
-        let (a1, b1) = self.rate(&w0, &q0);
-        let (w2, q2) = (axpy3(&w0, &a1, half), axpy4(&q0, &b1, half));
-        let (a2, b2) = self.rate(&w2, &q2);
-        let (w3, q3) = (axpy3(&w0, &a2, half), axpy4(&q0, &b2, half));
-        let (a3, b3) = self.rate(&w3, &q3);
-        let (w4, q4) = (axpy3(&w0, &a3, h), axpy4(&q0, &b3, h));
-        let (a4, b4) = self.rate(&w4, &q4);
         let sixth = h / 6.0;
-        for i in 0..3 {
-            w[i] = w0[i] + (a1[i] + (a2[i] + a3[i]) * 2.0 + a4[i]) * sixth;
-        }
-        if ATT {
-            for i in 0..4 {
-                q[i] = q0[i] + (b1[i] + (b2[i] + b3[i]) * 2.0 + b4[i]) * sixth;
+        for l in 0..LANES {
+            let c = [e[0][l], e[1][l], e[2][l]];
+            let rate = |w: &[f64; 3], q: &[f64; 4]| -> ([f64; 3], [f64; 4]) {
+                let dw = [c[0] * w[1] * w[2], c[1] * w[2] * w[0], c[2] * w[0] * w[1]];
+                if !ATT {
+                    return (dw, [0.0; 4]);
+                }
+                let (x, y, z, s) = (q[0], q[1], q[2], q[3]);
+                let (a, b, c) = (w[0], w[1], w[2]);
+                let dq = [
+                    0.5 * (s * a + y * c - z * b),
+                    0.5 * (s * b + z * a - x * c),
+                    0.5 * (s * c + x * b - y * a),
+                    -0.5 * (x * a + y * b + z * c),
+                ];
+                (dw, dq)
+            };
+            let w0 = [wa[0][l], wa[1][l], wa[2][l]];
+            let q0 = [qa[0][l], qa[1][l], qa[2][l], qa[3][l]];
+            let ax3 = |k: &[f64; 3], h: f64| [w0[0] + k[0] * h, w0[1] + k[1] * h, w0[2] + k[2] * h];
+            let ax4 = |k: &[f64; 4], h: f64| {
+                [
+                    q0[0] + k[0] * h,
+                    q0[1] + k[1] * h,
+                    q0[2] + k[2] * h,
+                    q0[3] + k[3] * h,
+                ]
+            };
+            let (a1, b1) = rate(&w0, &q0);
+            let (a2, b2) = rate(&ax3(&a1, half), &ax4(&b1, half));
+            let (a3, b3) = rate(&ax3(&a2, half), &ax4(&b2, half));
+            let (a4, b4) = rate(&ax3(&a3, h), &ax4(&b3, h));
+            for i in 0..3 {
+                wa[i][l] = w0[i] + (a1[i] + (a2[i] + a3[i]) * 2.0 + a4[i]) * sixth;
+            }
+            if ATT {
+                for i in 0..4 {
+                    qa[i][l] = q0[i] + (b1[i] + (b2[i] + b3[i]) * 2.0 + b4[i]) * sixth;
+                }
             }
         }
+        *w = [
+            X::from_lanes(wa[0]),
+            X::from_lanes(wa[1]),
+            X::from_lanes(wa[2]),
+        ];
+        *q = [
+            X::from_lanes(qa[0]),
+            X::from_lanes(qa[1]),
+            X::from_lanes(qa[2]),
+            X::from_lanes(qa[3]),
+        ];
         0
     }
 
@@ -378,9 +436,9 @@ fn sin_cosm1(x: X) -> (X, X) {
 fn library_sin_cosm1(x: X, large: Mask, s: &mut X, cm1: &mut X) {
     for l in 0..LANES {
         if large >> l & 1 != 0 {
-            let (sh, ch) = (0.5 * x.0[l]).sin_cos();
-            s.0[l] = 2.0 * sh * ch;
-            cm1.0[l] = -2.0 * sh * sh;
+            let (sh, ch) = (0.5 * x.lane(l)).sin_cos();
+            s.set_lane(l, 2.0 * sh * ch);
+            cm1.set_lane(l, -2.0 * sh * sh);
         }
     }
 }
@@ -591,12 +649,11 @@ impl<const ATT: bool> Midpoint<ATT> {
             // nalgebra's `amax`: |d0|, then simd_max with |d1|, |d2|.
             let dn = d[0].abs().simd_max(d[1].abs()).simd_max(d[2].abs());
             let scale = w[0].abs().simd_max(w[1].abs()).simd_max(w[2].abs());
-            let mut converged = 0;
-            for l in 0..LANES {
-                let (d, p, s) = (dn.0[l], prev.0[l], scale.0[l]);
-                converged |= Mask::from(midpoint::converged(d, p, s)) << l;
-            }
-            let converged = converged & pending;
+            // `midpoint::converged`, lane by lane.
+            let (tight, loose) = ((8.0 * f64::EPSILON) * scale, (1e3 * f64::EPSILON) * scale);
+            let converged = (dn.mask2(tight, |d, t| d <= t)
+                | (dn.mask2(prev, |d, p| d >= p) & dn.mask2(loose, |d, l| d <= l)))
+                & pending;
             for i in 0..3 {
                 result[i] = X::select(converged, w[i], result[i]);
             }

@@ -69,9 +69,9 @@ fn no_convergence(t: Option<f64>, h: f64, why: &str) -> Error {
 }
 
 /// Whether the Newton increment `d` is at round-off for the iterate `w` (or has stopped
-/// decreasing there).
-#[inline(always)]
-pub(crate) fn converged(d: f64, prev: f64, scale: f64) -> bool {
+/// decreasing there); `lanes` applies the same rule lane by lane.
+#[inline]
+fn converged(d: f64, prev: f64, scale: f64) -> bool {
     d <= 8.0 * f64::EPSILON * scale || (d >= prev && d <= 1e3 * f64::EPSILON * scale)
 }
 
