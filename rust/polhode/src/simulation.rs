@@ -591,7 +591,7 @@ fn lane_blocks(
         return chunks((0..n).collect());
     }
     let keys: Vec<Option<[usize; 3]>> = if parallel {
-        (0..n).into_par_iter().map(|i| axes(i)).collect()
+        (0..n).into_par_iter().map(&axes).collect()
     } else {
         (0..n).map(axes).collect()
     };

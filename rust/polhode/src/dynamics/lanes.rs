@@ -15,6 +15,9 @@
 //! only; a lane that fails (a step that does not converge, an output that is not finite) gets
 //! the error its body would get alone and leaves the block, which goes on with the others.
 
+// Loops over the lanes index several arrays at once: the shape the compiler vectorises.
+#![allow(clippy::needless_range_loop)]
+
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use nalgebra::{UnitQuaternion, Vector3, Vector4};
