@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+import polhode as ph
 from polhode import bench
-from polhode.bench import motion
+from polhode.bench import adapters, motion
 from reference_motion import reference_motion
 
 
@@ -143,6 +144,29 @@ def test_throughput_counts_the_work():
     assert rows[("rk4", True, 50)] == 50 * 40  # 2000 / 50 steps each
     assert rows[("exact", False, 1)] == 2000 // 8  # output times (an evaluation costs ~8 steps)
     assert all(r > 0 for r in result.rate("rk4", True).values())
+
+
+def test_numpy_rk4_peer_is_rk4_and_timed_beside_polhode():
+    """The batch peer integrates the same equations by the same method: its states agree with
+    polhode's rk4 to round-off (the two differ only in the order of a few additions and in
+    when the quaternion is renormalised), and the throughput gives each method's multiple of
+    it at N >= 1e4."""
+    rng = np.random.default_rng(4)
+    moments = np.sort(rng.uniform(1.0, 2.0, (20, 3)), axis=1)
+    omega0 = rng.normal(size=(20, 3))
+    omega, quaternion = adapters.numpy_rk4(moments, omega0, 300, 0.01)
+    sol = ph.simulate(moments, omega0, [0.0, 3.0], method="rk4", dt=0.01)
+    np.testing.assert_allclose(omega, sol.omega[:, -1], rtol=0, atol=1e-13)
+    assert quaternion is not None
+    sign = np.sign(np.sum(quaternion * sol.quaternion[:, -1], axis=1))[:, None]
+    np.testing.assert_allclose(sign * quaternion, sol.quaternion[:, -1], rtol=0, atol=1e-13)
+    w_only, none = adapters.numpy_rk4(moments, omega0, 300, 0.01, orientation=False)
+    assert none is None and np.array_equal(w_only, omega)
+    result = bench.throughput(sizes=(10_000,), methods=("rk4",), work=1e5, repeats=1)
+    rows = {(m, a, n): work for m, a, n, work, _ in result.rows}
+    assert rows[(motion.NUMPY_RK4, True, 10_000)] == 10_000 * 10
+    assert result.ratio("rk4", True)[10_000] > 0
+    assert "x numpy rk4" in result.table()
 
 
 def test_versus_and_tables_render():

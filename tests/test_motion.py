@@ -408,6 +408,110 @@ def test_batch_is_bitwise_the_single_body(method, kw, torque):
             assert np.array_equal(getattr(batch, name)[i], getattr(single, name)), (method, i, name)
 
 
+# Torque-free fixed-step batches run in blocks of bodies (SIMD lanes): every body must still be
+# bit for bit its own single run (the scalar path), whatever its block-mates.
+
+BLOCK_METHODS = [
+    ("splitting", {"dt": 0.05, "order": 2}),
+    ("splitting", {"dt": 0.05, "order": 4}),
+    ("splitting", {"dt": 0.05, "order": 6}),
+    ("midpoint", {"dt": 0.05}),
+    ("rk4", {"dt": 0.05}),
+]
+
+
+def _mixed_bodies(n):
+    """n bodies unlike each other: random triaxial ones in every order of the moments (so
+    different axis orders for the splitting), a symmetric top, one just off the separatrix, one
+    at rest, and a fast one whose rotation angles per step exceed 1/4 (the splitting's library
+    sine there) and whose midpoint Newton iterations take longer than the others'."""
+    rng = np.random.default_rng(11)
+    moments = rng.uniform(0.5, 3.0, (n, 3))
+    moments[:, 2] = np.minimum(moments[:, 2], moments[:, 0] + moments[:, 1])
+    omega0 = rng.normal(size=(n, 3))
+    special = [
+        ((2.0, 2.0, 3.0), (0.3, 0.1, 1.0)),  # symmetric
+        ((1.0, 2.0, 3.0), (1e-9, 1.0, 1e-9)),  # near the separatrix (intermediate axis)
+        ((1.0, 2.0, 2.5), (0.0, 0.0, 0.0)),  # at rest
+        ((3.0, 1.0, 2.0), (12.0, -7.0, 9.0)),  # fast: |omega| dt ~ 0.8
+    ]
+    for k, (m, w) in enumerate(special[: max(0, n - 1)]):
+        moments[1 + k] = m
+        omega0[1 + k] = w
+    quat0 = Rotation.random(n, random_state=5).as_quat()
+    return moments, omega0, quat0
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 7, 9])
+@pytest.mark.parametrize(
+    ("method", "kw"), BLOCK_METHODS, ids=[m + str(kw.get("order", "")) for m, kw in BLOCK_METHODS]
+)
+def test_batch_in_blocks_is_bitwise_each_body_alone(method, kw, n):
+    """N not a multiple of the block width, mixed bodies in one block, with and without the
+    orientation, uneven output times: each body equals its single run bit for bit, stats too."""
+    moments, omega0, quat0 = _mixed_bodies(n)
+    times = np.array([0.0, 0.02, 0.5, 0.5, 1.3, 4.0])
+    for orientation in (True, False):
+        batch = ph.simulate(
+            moments, omega0, times, orientation0=quat0, orientation=orientation, method=method, **kw
+        )
+        for i in range(n):
+            single = ph.simulate(
+                moments[i],
+                omega0[i],
+                times,
+                orientation0=quat0[i],
+                orientation=orientation,
+                method=method,
+                **kw,
+            )
+            names = FIELDS if orientation else ("omega", "angular_momentum_body", "energy")
+            for name in names:
+                assert np.array_equal(getattr(batch, name)[i], getattr(single, name)), (i, name)
+            for key in ("steps", "evaluations"):
+                assert batch.stats[key][i] == single.stats[key], (i, key)
+
+
+def test_a_tensor_body_in_a_block_is_its_single_run():
+    """Bodies given by inertia tensors (integrated in their principal axes, reported in their
+    own) in a block of the lanes: each is its single run."""
+    rng = np.random.default_rng(2)
+    rot = Rotation.random(5, random_state=8).as_matrix()
+    bodies = [
+        ph.Body.from_inertia(1.0, r @ np.diag(np.sort(rng.uniform(1.0, 2.0, 3))) @ r.T) for r in rot
+    ]
+    omega0 = rng.normal(size=(5, 3))
+    times = np.linspace(0.0, 2.0, 5)
+    for method, kw in BLOCK_METHODS:
+        batch = ph.simulate(bodies, omega0, times, method=method, **kw)
+        for i in range(5):
+            single = ph.simulate(bodies[i], omega0[i], times, method=method, **kw)
+            for name in FIELDS:
+                assert np.array_equal(getattr(batch, name)[i], getattr(single, name)), (i, name)
+
+
+@pytest.mark.parametrize("method", ["rk4", "midpoint"])
+def test_a_failing_body_in_a_block_is_named_with_its_own_error(method):
+    """A body that fails in its block (rk4 blows up, the midpoint rule's Newton iteration
+    fails; the free splitting keeps |L| and cannot) while its block-mates go on: the batch
+    raises the error that body raises alone, naming it; with two failing bodies, the first by
+    index."""
+    fast = {"rk4": (3000.0, -2000.0, 2500.0), "midpoint": (1e5, -2e5, 3e5)}[method]
+    moments, omega0, quat0 = _mixed_bodies(6)
+    times = np.array([0.0, 1.0, 20.0])
+    omega0[5] = fast
+    with pytest.raises(ph.PolhodeError) as alone:
+        ph.simulate(moments[5], omega0[5], times, orientation0=quat0[5], method=method, dt=0.05)
+    with pytest.raises(type(alone.value)) as info:
+        ph.simulate(moments, omega0, times, orientation0=quat0, method=method, dt=0.05)
+    assert info.value.body == 5 and info.value.argument == alone.value.argument == "dt"
+    assert str(info.value) == f"body 5: {alone.value}"
+    omega0[2] = fast
+    with pytest.raises(type(alone.value)) as info:
+        ph.simulate(moments, omega0, times, orientation0=quat0, method=method, dt=0.05)
+    assert info.value.body == 2
+
+
 def test_batch_shares_a_single_row():
     """One body for N omega0 rows, one orientation for all; omega0 of shape (3,) is one body,
     so N bodies with one omega0 row is an error that says how to ask for N."""

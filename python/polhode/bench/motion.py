@@ -443,9 +443,17 @@ def drift(
 # Batch throughput.
 
 
+#: The name of the batch peer's rows in :class:`Throughput`: :func:`adapters.numpy_rk4`.
+NUMPY_RK4 = "numpy rk4"
+
+#: The peer is timed from this N on (below it, numpy's per-call overhead is all one measures).
+NUMPY_RK4_MIN_N = 10_000
+
+
 @dataclass
 class Throughput:
-    """Body-steps per second (integrators) or evaluations per second (exact) against N."""
+    """Body-steps per second (integrators) or evaluations per second (exact) against N, and the
+    numpy structure-of-arrays RK4 (rows named :data:`NUMPY_RK4`) for N >= 1e4."""
 
     rows: list[tuple[str, bool, int, int, list[float]]]  # method, attitude, N, work, seconds
 
@@ -456,16 +464,23 @@ class Throughput:
             if m == method and a == attitude
         }
 
+    def ratio(self, method: str, attitude: bool) -> dict[int, float]:
+        """The rate of ``method`` over the numpy RK4's (same N and attitude, same run)."""
+        peer = self.rate(NUMPY_RK4, attitude)
+        return {n: r / peer[n] for n, r in self.rate(method, attitude).items() if n in peer}
+
     def table(self) -> str:
         lines = [
             f"{'method':14s} {'attitude':>8s} {'N':>8s} {'median ms':>10s} {'spread ms':>17s} "
-            f"{'per second':>11s}"
+            f"{'per second':>11s} {'':10s} {'x numpy rk4':>11s}"
         ]
         for method, attitude, n, work, secs in self.rows:
             unit = "evals" if method == "exact" else "body-steps"
+            ratio = self.ratio(method, attitude).get(n)
+            shown = "" if ratio is None or method in (NUMPY_RK4, "exact") else f"{ratio:.3g}"
             lines.append(
                 f"{method:14s} {str(attitude):>8s} {n:8d} {_median(secs) * 1e3:10.2f} "
-                f"{_spread(secs):>17s} {work / _median(secs):11.3g} {unit}"
+                f"{_spread(secs):>17s} {work / _median(secs):11.3g} {unit:10s} {shown:>11s}"
             )
         return "\n".join(lines)
 
@@ -483,42 +498,71 @@ def throughput(
     work: float = 2e7,
     repeats: int = 3,
     dt: float = 0.01,
+    peer: bool = True,
 ) -> Throughput:
     """For each N, integrates N random bodies on all cores for about ``work / N`` rk4 steps
     (at least 10), or as many as take about as long with the other methods (a half for
     midpoint, a quarter for the splitting, an eighth for dop853), and reports body-steps per
     second, with and without orientation; the exact method is timed on an eighth as many
-    output times (evaluations per second)."""
+    output times (evaluations per second). With ``peer``, the numpy structure-of-arrays RK4
+    (:func:`adapters.numpy_rk4`, one core) is timed too for N >= 1e4, on an eighth as many
+    steps. Every setting runs once in each repeat, in turn (interleaved)."""
     rng = np.random.default_rng(0)
-    rows: list[tuple[str, bool, int, int, list[float]]] = []
+    # Roughly the cost of a step (an exact evaluation) in rk4 steps: equal time per row.
+    cost = {"splitting": 4, "midpoint": 2, "dop853": 8, "exact": 8, NUMPY_RK4: 8}
+    runs: list[tuple[str, bool, int, Any]] = []
     for n in sizes:
         moments, omega0 = _random_bodies(n, rng)
         steps = int(max(10, min(100_000, work // n)))
-        # Roughly the cost of a step (an exact evaluation) in rk4 steps: equal time per row.
-        cost = {"splitting": 4, "midpoint": 2, "dop853": 8, "exact": 8}
-        for method in methods:
+        names = list(methods) + ([NUMPY_RK4] if peer and n >= NUMPY_RK4_MIN_N else [])
+        for method in names:
             steps_m = max(10, steps // cost.get(method, 1))
             for attitude in (True, False):
-                if method == "exact":
-                    times = np.linspace(0.0, steps_m * dt, steps_m)
-                    kwargs: dict[str, Any] = {"method": "exact"}
-                elif method == "dop853":
-                    times = np.array([0.0, steps_m * dt])
-                    kwargs = {"method": "dop853", "rtol": 1e-8}
-                else:
-                    times = np.array([0.0, steps_m * dt])
-                    kwargs = {"method": method, "dt": dt}
-                seconds: list[float] = []
-                total = 0
-                for _ in range(repeats):
-                    start = time.perf_counter()
-                    traj = ph.simulate(moments, omega0, times, orientation=attitude, **kwargs)
-                    seconds.append(time.perf_counter() - start)
-                    if method == "exact":
-                        total = n * len(times)
-                    else:
-                        total = int(np.sum(traj.stats["steps"]))
-                    del traj
-                rows.append((method, attitude, n, total, seconds))
-    return Throughput(rows)
+                runs.append(
+                    (
+                        method,
+                        attitude,
+                        n,
+                        _throughput_run(method, attitude, moments, omega0, steps_m, dt),
+                    )
+                )
+    seconds: list[list[float]] = [[] for _ in runs]
+    totals = [0] * len(runs)
+    for _ in range(repeats):
+        for k, (_m, _a, _n, run) in enumerate(runs):
+            start = time.perf_counter()
+            totals[k] = run()
+            seconds[k].append(time.perf_counter() - start)
+    return Throughput([(m, a, n, totals[k], seconds[k]) for k, (m, a, n, _) in enumerate(runs)])
 
+
+def _throughput_run(
+    method: str, attitude: bool, moments: Array, omega0: Array, steps: int, dt: float
+) -> Any:
+    """A call of one setting of :func:`throughput`, returning its work (body-steps or exact
+    evaluations)."""
+    n = len(moments)
+    if method == NUMPY_RK4:
+
+        def peer() -> int:
+            adapters.numpy_rk4(moments, omega0, steps, dt, orientation=attitude)
+            return n * steps
+
+        return peer
+    if method == "exact":
+        times = np.linspace(0.0, steps * dt, steps)
+        kwargs: dict[str, Any] = {"method": "exact"}
+    elif method == "dop853":
+        times = np.array([0.0, steps * dt])
+        kwargs = {"method": "dop853", "rtol": 1e-8}
+    else:
+        times = np.array([0.0, steps * dt])
+        kwargs = {"method": method, "dt": dt}
+
+    def call() -> int:
+        traj = ph.simulate(moments, omega0, times, orientation=attitude, **kwargs)
+        if method == "exact":
+            return n * len(times)
+        return int(np.sum(traj.stats["steps"]))
+
+    return call

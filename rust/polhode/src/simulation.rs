@@ -27,6 +27,7 @@
 use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
+use crate::dynamics::lanes;
 use crate::dynamics::{
     integrate_body, integrate_gyrostat, BodyContext, Gyrostat, Method, Moments, Monitor, Options,
     RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
@@ -142,7 +143,13 @@ impl Quantity {
     /// Numbers per output time, for a run with `rotors` rotors (1 for a scalar).
     #[must_use]
     pub fn width(self, rotors: usize) -> usize {
-        self.shape(rotors).iter().product()
+        // The product of `shape`, without its allocation: this runs per output and body.
+        match self {
+            Quantity::Quaternion => 4,
+            Quantity::Energy => 1,
+            Quantity::RotorRates => 3 * rotors,
+            _ => 3,
+        }
     }
 
     /// Whether it needs the orientation (absent without it).
@@ -216,6 +223,48 @@ impl Sample<'_> {
                 }
             }
         }
+    }
+}
+
+/// One body's rows of every column, written output time by output time.
+struct Rows<'a> {
+    /// The body.
+    i: usize,
+    columns: &'a [Quantity],
+    /// Each column, with the numbers per body.
+    shared: &'a [(Column, usize)],
+    rotors: usize,
+    /// The output times.
+    t: &'a [f64],
+    /// The last quaternion written (one sign per trajectory).
+    previous: Option<Quaternion<f64>>,
+}
+
+impl Rows<'_> {
+    /// Writes every quantity of `sample`, the state at output time `j`.
+    ///
+    /// # Safety
+    /// No other `Rows` of the same body `i` is alive (the bodies' ranges are disjoint).
+    unsafe fn write(&mut self, j: usize, sample: &Sample) -> Result<()> {
+        for (quantity, &(column, len)) in self.columns.iter().zip(self.shared) {
+            let w = quantity.width(self.rotors);
+            // SAFETY: body i's range, by the caller's contract.
+            let row = unsafe { column.rows(self.i, len) };
+            let out = &mut row[j * w..(j + 1) * w];
+            sample.write(*quantity, out, &mut self.previous);
+            // omega is finite (the integration checks it), but I omega and T can
+            // overflow beside it (a torque that drives the motion beyond doubles).
+            if let Some(&value) = out.iter().find(|x| !x.is_finite()) {
+                return Err(Error::BlewUp {
+                    name: "t".into(),
+                    what: format!("`{}`", quantity.name()),
+                    hint: "the motion leaves double precision before the times asked for.".into(),
+                    t: self.t[j],
+                    value,
+                });
+            }
+        }
+        Ok(())
     }
 }
 
@@ -523,6 +572,42 @@ impl Column {
     }
 }
 
+/// The blocks of at most [`lanes::LANES`] bodies integrated together, in the order of their
+/// indices: consecutive bodies, except for the splitting, whose bodies are grouped by their
+/// axis order (`axes(i)`; `None` for a body that fails before its run), which a block shares.
+fn lane_blocks(
+    n: usize,
+    method: &Method,
+    parallel: bool,
+    axes: impl Fn(usize) -> Option<[usize; 3]> + Sync,
+) -> Vec<Vec<usize>> {
+    let chunks = |indices: Vec<usize>| -> Vec<Vec<usize>> {
+        indices
+            .chunks(lanes::LANES)
+            .map(<[usize]>::to_vec)
+            .collect()
+    };
+    if !matches!(method, Method::Splitting { .. }) {
+        return chunks((0..n).collect());
+    }
+    let keys: Vec<Option<[usize; 3]>> = if parallel {
+        (0..n).into_par_iter().map(&axes).collect()
+    } else {
+        (0..n).map(axes).collect()
+    };
+    let mut groups: Vec<(Option<[usize; 3]>, Vec<usize>)> = Vec::new();
+    for (i, key) in keys.into_iter().enumerate() {
+        match groups.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, members)) => members.push(i),
+            None => groups.push((key, vec![i])),
+        }
+    }
+    groups
+        .into_iter()
+        .flat_map(|(_, members)| chunks(members))
+        .collect()
+}
+
 /// Integrates N bodies from their initial angular velocities (body axes) and orientations to
 /// the output times `t` (finite, non-decreasing, `>= run.t0`), each in its principal axes,
 /// and reports every [`Quantity`] in its own axes.
@@ -615,13 +700,16 @@ pub fn simulate(
             max_steps: run.max_steps,
             monitor,
         };
+        let mut rows = Rows {
+            i,
+            columns: &columns,
+            shared: &shared,
+            rotors,
+            t,
+            previous: None,
+        };
         // SAFETY: body i's ranges; every i is visited once.
-        let mut rows: Vec<&mut [f64]> = shared
-            .iter()
-            .map(|&(column, len)| unsafe { column.rows(i, len) })
-            .collect();
         unsafe { moments_column.rows(i, 3) }.copy_from_slice(body.moments.moments().as_slice());
-        let mut previous = None;
         let mut write = |j: usize, sample: Sample| -> Result<()> {
             // Writing millions of outputs takes a while: looks at the monitor as a run does.
             if j % OUTPUT_LOOK_EVERY == OUTPUT_LOOK_EVERY - 1 {
@@ -629,25 +717,8 @@ pub fn simulate(
                     monitor.look()?;
                 }
             }
-            for (quantity, row) in columns.iter().zip(rows.iter_mut()) {
-                let w = quantity.width(rotors);
-                let out = &mut row[j * w..(j + 1) * w];
-                sample.write(*quantity, out, &mut previous);
-                // omega is finite (the integration checks it), but I omega and T can
-                // overflow beside it (a torque that drives the motion beyond doubles).
-                if let Some(&value) = out.iter().find(|x| !x.is_finite()) {
-                    return Err(Error::BlewUp {
-                        name: "t".into(),
-                        what: format!("`{}`", quantity.name()),
-                        hint: "the motion leaves double precision before the times asked \
-                               for."
-                            .into(),
-                        t: t[j],
-                        value,
-                    });
-                }
-            }
-            Ok(())
+            // SAFETY: body i's rows, written by this call alone.
+            unsafe { rows.write(j, &sample) }
         };
         if rotors > 0 {
             let frame = body.frame.map_or_else(Matrix3::identity, |f| f.matrix);
@@ -677,7 +748,106 @@ pub fn simulate(
         }
         Ok(trajectory.stats)
     };
-    let results: Vec<Result<Stats>> = if run.parallel && n > 1 {
+    let lane_options = Options {
+        t0: run.t0,
+        with_orientation: run.with_orientation,
+        torque: None,
+        max_steps: run.max_steps,
+        monitor,
+    };
+    let results: Vec<Result<Stats>> = if n > 1
+        && rotors == 0
+        && run.torque.is_none()
+        && lanes::applies(&run.method, &lane_options)
+    {
+        // Torque-free fixed-step runs: blocks of bodies integrated in SIMD lanes, each body
+        // with the numbers it has alone.
+        let prepared = |i: usize| -> Result<(Prepared, State)> {
+            let at = |len: usize| if len == 1 { 0 } else { i };
+            let body = prepare(&bodies[at(bodies.len())], None)?;
+            let state = initial_state(&body, &omega0[i], &orientation0[at(orientation0.len())])?;
+            let state = crate::dynamics::start(&run.method, &state, t, &lane_options)?;
+            Ok((body, state))
+        };
+        let block = |members: &[usize]| -> Vec<(usize, Result<Stats>)> {
+            let mut done = Vec::with_capacity(members.len());
+            let mut lanes = Vec::with_capacity(lanes::LANES);
+            for &i in members {
+                match prepared(i) {
+                    Ok((body, state)) => lanes.push((i, body, state)),
+                    Err(error) => done.push((i, Err(error))),
+                }
+            }
+            if lanes.is_empty() {
+                return done;
+            }
+            let mut rows: Vec<Rows> = lanes
+                .iter()
+                .map(|(i, body, _)| {
+                    // SAFETY: body i's ranges; every i is in one block, once.
+                    unsafe { moments_column.rows(*i, 3) }
+                        .copy_from_slice(body.moments.moments().as_slice());
+                    Rows {
+                        i: *i,
+                        columns: &columns,
+                        shared: &shared,
+                        rotors,
+                        t,
+                        previous: None,
+                    }
+                })
+                .collect();
+            // A body's first output that overflows: its error, unless its run fails.
+            let mut pending: Vec<Option<Error>> = vec![None; lanes.len()];
+            let moments: Vec<Moments> = lanes.iter().map(|(_, body, _)| body.moments).collect();
+            let states: Vec<State> = lanes.iter().map(|(_, _, state)| *state).collect();
+            let output = |j: usize, outputs: &lanes::LaneOutputs| -> Result<()> {
+                if j % OUTPUT_LOOK_EVERY == OUTPUT_LOOK_EVERY - 1 {
+                    if let Some(monitor) = monitor {
+                        monitor.look()?;
+                    }
+                }
+                let each = lanes.iter().zip(rows.iter_mut()).zip(pending.iter_mut());
+                for ((((_, body, _), rows), pending), out) in each.zip(outputs) {
+                    if let (Some((omega, q)), None) = (out, &pending) {
+                        let sample = Sample {
+                            body,
+                            omega,
+                            orientation: q.as_ref(),
+                            rotors: None,
+                        };
+                        // SAFETY: the body's rows, written by its lane alone.
+                        if let Err(error) = unsafe { rows.write(j, &sample) } {
+                            *pending = Some(error);
+                        }
+                    }
+                }
+                Ok(())
+            };
+            let ran =
+                lanes::integrate_lanes(&run.method, &moments, &states, t, &lane_options, output);
+            for (((i, _, _), result), pending) in lanes.iter().zip(ran).zip(pending) {
+                done.push((*i, result.and_then(|stats| pending.map_or(Ok(stats), Err))));
+            }
+            done
+        };
+        let blocks = lane_blocks(n, &run.method, run.parallel, |i| {
+            prepared(i).ok().map(|(body, _)| body.moments.split_axes)
+        });
+        let ran: Vec<Vec<(usize, Result<Stats>)>> = if run.parallel {
+            blocks.par_iter().map(|b| block(b)).collect()
+        } else {
+            blocks.iter().map(|b| block(b)).collect()
+        };
+        let mut results: Vec<Option<Result<Stats>>> = (0..n).map(|_| None).collect();
+        for (i, result) in ran.into_iter().flatten() {
+            results[i] = Some(result);
+        }
+        results
+            .into_iter()
+            .map(|r| r.expect("every body is in one block"))
+            .collect()
+    } else if run.parallel && n > 1 {
         (0..n).into_par_iter().map(one).collect()
     } else {
         (0..n).map(one).collect()

@@ -363,47 +363,13 @@ impl Collector {
         }
     }
 
-    /// The error of an output `what` that is not finite at `t`.
-    #[cold]
-    fn blew_up(&self, what: String, t: f64, value: f64) -> Error {
-        let (name, hint) = if self.fixed_step {
-            (
-                "dt",
-                "reduce dt (a step too long for the rotation rate or the torque).",
-            )
-        } else {
-            (
-                "t",
-                "the motion leaves double precision before the times asked for.",
-            )
-        };
-        Error::BlewUp {
-            name: name.into(),
-            what,
-            hint: hint.into(),
-            t,
-            value,
-        }
-    }
-
     /// The output at `t`: `w`, and the raw quaternion `q` normalised (kept only if the
     /// orientation is returned).
     #[inline]
     fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&Vector4<f64>>) -> Result<()> {
         self.push_omega(t, w)?;
         if let (Some(att), Some(q)) = (self.orientation.as_mut(), q) {
-            let unit = q / q.norm();
-            if !unit.iter().all(|c| c.is_finite()) {
-                // The orientation can blow up while omega stays finite (a step far too large
-                // for the rotation rate): an error, not NaN quaternions beside finite omega.
-                let value = unit
-                    .iter()
-                    .copied()
-                    .find(|c| !c.is_finite())
-                    .unwrap_or(f64::NAN);
-                return Err(self.blew_up("the orientation (its quaternion)".into(), t, value));
-            }
-            att.push(UnitQuaternion::new_unchecked(Quaternion::from(unit)));
+            att.push(unit_output(self.fixed_step, t, q)?);
         }
         Ok(())
     }
@@ -426,14 +392,72 @@ impl Collector {
 
     #[inline]
     fn push_omega(&mut self, t: f64, w: &Vector3<f64>) -> Result<()> {
-        for i in 0..3 {
-            if !w[i].is_finite() {
-                return Err(self.blew_up(format!("omega[{i}]"), t, w[i]));
-            }
-        }
+        check_omega_output(self.fixed_step, t, w)?;
         self.omega.push(*w);
         Ok(())
     }
+}
+
+/// The error of an output `what` that is not finite at `t`. It names `dt` for the fixed-step
+/// methods (a step too long for the motion), `t` for the others (a motion that leaves double
+/// precision before the times asked for).
+#[cold]
+fn blew_up(fixed_step: bool, what: String, t: f64, value: f64) -> Error {
+    let (name, hint) = if fixed_step {
+        (
+            "dt",
+            "reduce dt (a step too long for the rotation rate or the torque).",
+        )
+    } else {
+        (
+            "t",
+            "the motion leaves double precision before the times asked for.",
+        )
+    };
+    Error::BlewUp {
+        name: name.into(),
+        what,
+        hint: hint.into(),
+        t,
+        value,
+    }
+}
+
+/// Checks that the angular velocity output at `t` is finite.
+#[inline]
+pub(crate) fn check_omega_output(fixed_step: bool, t: f64, w: &Vector3<f64>) -> Result<()> {
+    for i in 0..3 {
+        if !w[i].is_finite() {
+            return Err(blew_up(fixed_step, format!("omega[{i}]"), t, w[i]));
+        }
+    }
+    Ok(())
+}
+
+/// The orientation output at `t` from the raw quaternion `q`: `q / |q|`, checked finite.
+#[inline]
+pub(crate) fn unit_output(
+    fixed_step: bool,
+    t: f64,
+    q: &Vector4<f64>,
+) -> Result<UnitQuaternion<f64>> {
+    let unit = q / q.norm();
+    if !unit.iter().all(|c| c.is_finite()) {
+        // The orientation can blow up while omega stays finite (a step far too large for the
+        // rotation rate): an error, not NaN quaternions beside finite omega.
+        let value = unit
+            .iter()
+            .copied()
+            .find(|c| !c.is_finite())
+            .unwrap_or(f64::NAN);
+        return Err(blew_up(
+            fixed_step,
+            "the orientation (its quaternion)".into(),
+            t,
+            value,
+        ));
+    }
+    Ok(UnitQuaternion::new_unchecked(Quaternion::from(unit)))
 }
 
 /// Calls `f(end, output)` for each segment of `[t0, times[-1]]`, ending at every output time
@@ -466,21 +490,17 @@ fn breaks_of(options: &Options) -> Vec<f64> {
     breaks
 }
 
-/// The fixed-step loop of `stepper`: `n = ceil(interval / dt)` equal substeps between
-/// successive output times (and torque discontinuities), so that each step lies in an interval
-/// between two of those times, free of discontinuities.
-fn fixed_loop<S: Stepper>(
-    mut stepper: S,
+/// The number of steps of a fixed-step run with step `dt` (see [`substeps`]), or an error
+/// naming `dt` if it exceeds `options.max_steps`.
+pub(crate) fn fixed_total(
     dt: f64,
-    state0: &State,
     times: &[f64],
+    breaks: &[f64],
     options: &Options,
-    col: &mut Collector,
-) -> Result<Stats> {
-    let breaks = breaks_of(options);
+) -> Result<f64> {
     let mut total = 0.0;
     let mut prev = options.t0;
-    segments(options.t0, times, &breaks, |t, _| {
+    segments(options.t0, times, breaks, |t, _| {
         total += substeps(prev, t, dt);
         prev = t;
         Ok(())
@@ -496,6 +516,22 @@ fn fixed_loop<S: Stepper>(
             ),
         });
     }
+    Ok(total)
+}
+
+/// The fixed-step loop of `stepper`: `n = ceil(interval / dt)` equal substeps between
+/// successive output times (and torque discontinuities), so that each step lies in an interval
+/// between two of those times, free of discontinuities.
+fn fixed_loop<S: Stepper>(
+    mut stepper: S,
+    dt: f64,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let breaks = breaks_of(options);
+    let total = fixed_total(dt, times, &breaks, options)?;
     let mut y = stepper.vars(state0);
     stepper.start(&y);
     let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
@@ -770,14 +806,14 @@ pub fn integrate(
     integrate_body(method, &body, state0, times, options)
 }
 
-/// [`integrate`] with validated moments.
-pub fn integrate_body(
+/// The checks of a run before its first step (a cancelled monitor, the method's settings, the
+/// initial state, the times), and its initial state with the quaternion renormalised.
+pub(crate) fn start(
     method: &Method,
-    body: &Moments,
     state0: &State,
     times: &[f64],
     options: &Options,
-) -> Result<Trajectory> {
+) -> Result<State> {
     if let Some(monitor) = options.monitor {
         monitor.check()?;
     }
@@ -798,12 +834,23 @@ pub fn integrate_body(
         });
     }
     // Renormalised, in case it was built unchecked.
-    let state0 = &State {
+    Ok(State {
         omega: state0.omega,
         orientation: UnitQuaternion::new_unchecked(Quaternion::from(
             state0.orientation.coords / norm,
         )),
-    };
+    })
+}
+
+/// [`integrate`] with validated moments.
+pub fn integrate_body(
+    method: &Method,
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+) -> Result<Trajectory> {
+    let state0 = &start(method, state0, times, options)?;
     // The orientation is integrated if returned or if the torque depends on it.
     let orientation =
         options.with_orientation || options.torque.is_some_and(|t| t.depends_on_orientation());

@@ -21,7 +21,10 @@ use super::system::{Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
 use crate::{Error, Result, Short};
 
-const MAX_ITERATIONS: usize = 50;
+pub(crate) const MAX_ITERATIONS: usize = 50;
+
+/// Why a Newton iteration that ran out of iterations failed.
+pub(crate) const NO_CONVERGENCE: &str = "no convergence in 50 Newton iterations";
 
 type Mat3 = [[f64; 3]; 3];
 
@@ -66,7 +69,7 @@ fn no_convergence(t: Option<f64>, h: f64, why: &str) -> Error {
 }
 
 /// Whether the Newton increment `d` is at round-off for the iterate `w` (or has stopped
-/// decreasing there).
+/// decreasing there); `lanes` applies the same rule lane by lane.
 #[inline]
 fn converged(d: f64, prev: f64, scale: f64) -> bool {
     d <= 8.0 * f64::EPSILON * scale || (d >= prev && d <= 1e3 * f64::EPSILON * scale)
@@ -100,11 +103,14 @@ fn free_midpoint(
         }
         prev = dn;
     }
-    Err(no_convergence(
-        None,
-        h,
-        "no convergence in 50 Newton iterations",
-    ))
+    Err(no_convergence(None, h, NO_CONVERGENCE))
+}
+
+/// The error of a torque-free midpoint step from `t` over `h` that failed for `why` (a
+/// singular Newton matrix or [`NO_CONVERGENCE`]), as a run reports it.
+#[cold]
+pub(crate) fn free_failure(why: &str, t: f64, h: f64) -> Error {
+    at_time(no_convergence(None, h, why), t)
 }
 
 /// `q (x) cay(h w_m)` with the Cayley transform written above, renormalised.
@@ -218,11 +224,7 @@ fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
         }
         prev = dn;
     }
-    Err(no_convergence(
-        Some(t),
-        h,
-        "no convergence in 50 Newton iterations",
-    ))
+    Err(no_convergence(Some(t), h, NO_CONVERGENCE))
 }
 
 /// Adds the time to a Newton failure of the torque-free midpoint (which does not know it).

@@ -37,6 +37,7 @@
 
 pub mod dop853;
 mod driver;
+pub(crate) mod lanes;
 pub mod midpoint;
 mod monitor;
 pub mod rk4;
@@ -48,7 +49,7 @@ mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
-pub(crate) use driver::{check_method, check_times};
+pub(crate) use driver::{check_method, check_times, start};
 pub use driver::{
     integrate, integrate_body, Dop853Options, Method, MethodSettings, Options, Stats, Stepping,
     Trajectory, METHODS,

@@ -149,6 +149,8 @@ pub(crate) struct Progress<'a> {
     every: u32,
     countdown: Cell<u32>,
     reported: Cell<f64>,
+    /// The runs advancing together (the live lanes of a block of bodies), 1 for one body.
+    runs: Cell<u32>,
 }
 
 impl<'a> Progress<'a> {
@@ -159,7 +161,14 @@ impl<'a> Progress<'a> {
             every,
             countdown: Cell::new(every),
             reported: Cell::new(t0),
+            runs: Cell::new(1),
         }
+    }
+
+    /// `runs` runs advancing together (the live lanes of a block of bodies): each look adds
+    /// their time to [`Monitor::elapsed`] once per run, and the end counts each run finished.
+    pub(crate) fn set_runs(&self, runs: u32) {
+        self.runs.set(runs);
     }
 
     /// Steps (or evaluations) left before the next look.
@@ -197,7 +206,9 @@ impl<'a> Progress<'a> {
     fn report(&self, monitor: &Monitor, t: f64) {
         let reported = self.reported.get();
         if t > reported {
-            monitor.add_elapsed(t - reported);
+            for _ in 0..self.runs.get() {
+                monitor.add_elapsed(t - reported);
+            }
             self.reported.set(t);
         }
     }
@@ -206,7 +217,9 @@ impl<'a> Progress<'a> {
     pub(crate) fn finish(&self, t_end: f64) {
         if let Some(monitor) = self.monitor {
             self.report(monitor, t_end);
-            monitor.add_finished();
+            for _ in 0..self.runs.get() {
+                monitor.add_finished();
+            }
         }
     }
 }

@@ -113,6 +113,12 @@ impl Moments {
         &self.inverse
     }
 
+    /// `((I2 - I3)/I1, (I3 - I1)/I2, (I1 - I2)/I3)`, the coefficients of Euler's equations.
+    #[must_use]
+    pub(crate) fn euler(&self) -> &Vector3<f64> {
+        &self.euler
+    }
+
     /// Body angular momentum `m = I w`.
     #[must_use]
     pub fn angular_momentum(&self, omega: &Vector3<f64>) -> Vector3<f64> {
