@@ -162,7 +162,7 @@ def _kernels_section(quick: bool, repeats: int) -> list[str]:
         "`numpy.linalg.eigh`, a mesh of 327,680 faces against trimesh, 1e7 point masses "
         "against the numpy reference, the exact solution per output time (full state and "
         "omega alone, 2e5 times) against `scipy.special.ellipj` at as many arguments, batch "
-        "rk4, splitting and midpoint (1e5 bodies, 50 steps, with attitude) against a numpy "
+        "rk4, splitting and midpoint (1e5 bodies, 200 steps, with attitude) against a numpy "
         "structure-of-arrays rk4, and one small call (`simulate` of one body at 2 times, "
         "`analyze`) against `Rotation.from_rotvec(...).as_matrix()`. Ratio: the peer's time "
         "over polhode's, medians of interleaved repeats in this run; the target is the ratio "
