@@ -83,7 +83,9 @@ def test_rust_examples_are_whole_programs_with_the_crates_nalgebra():
     (toml,) = blocks("toml")
     wanted = tomllib.loads(toml)["dependencies"]
     workspace = tomllib.loads((ROOT / "Cargo.toml").read_text(encoding="utf-8"))
-    assert wanted["nalgebra"] == workspace["workspace"]["dependencies"]["nalgebra"]
+    ours = workspace["workspace"]["dependencies"]["nalgebra"]
+    # The version the crate is built with (its features are the crate's own business).
+    assert wanted["nalgebra"] == (ours["version"] if isinstance(ours, dict) else ours)
     assert wanted["polhode"]["path"].endswith("rust/polhode")
     # The crate runs them as doctests.
     lib = (ROOT / "rust" / "polhode" / "src" / "lib.rs").read_text(encoding="utf-8")
