@@ -237,21 +237,29 @@ MAX_POINTS = 10_000_000
 MESH_KEYS = ("path", "density", "mass", "scale", "shell")
 
 
+def _key_values(
+    pairs: list[str], allowed: Any, kind: str, takes: str, form: str
+) -> dict[str, str]:
+    """``--body``'s ``NAME=VALUE`` words as a dict: each name one of ``allowed``, once."""
+    values: dict[str, str] = {}
+    for pair in pairs:
+        name, equals, value = pair.partition("=")
+        if not equals:
+            raise UsageError("--body", f"expected {form}, got {pair!r}; {takes}.")
+        if name not in allowed:
+            raise UsageError("--body", f"unknown key {name!r} for {kind}; {takes}.")
+        if name in values:
+            raise UsageError("--body", f"{name} is given twice; {takes}.")
+        values[name] = value
+    return values
+
+
 def _mesh(pairs: list[str]) -> ph.Body:
     """A body from a mesh file: ``mesh path=FILE density=D`` (or ``mass=M``), optionally
     ``scale=S`` and ``shell=true``."""
     takes = "mesh takes path=FILE and density=NUMBER or mass=NUMBER, optionally scale=NUMBER "
     takes += "and shell=true"
-    values: dict[str, str] = {}
-    for pair in pairs:
-        name, equals, value = pair.partition("=")
-        if not equals:
-            raise UsageError("--body", f"expected NAME=VALUE, got {pair!r}; {takes}.")
-        if name not in MESH_KEYS:
-            raise UsageError("--body", f"unknown key {name!r} for mesh; {takes}.")
-        if name in values:
-            raise UsageError("--body", f"{name} is given twice; {takes}.")
-        values[name] = value
+    values = _key_values(pairs, MESH_KEYS, "mesh", takes, "NAME=VALUE")
     if "path" not in values:
         raise UsageError("--body", f"missing path; {takes}.")
     if ("density" in values) == ("mass" in values):
@@ -292,18 +300,13 @@ def _solid(words: list[str]) -> ph.Body:
     expected = SOLIDS[kind]
     takes = f"{kind} takes {', '.join(expected)} (as NAME=NUMBER)"
     values: dict[str, float] = {}
-    for pair in pairs:
-        name, equals, value = pair.partition("=")
-        if not equals:
-            raise UsageError("--body", f"expected NAME=NUMBER, got {pair!r}; {takes}.")
-        if name not in expected:
-            raise UsageError("--body", f"unknown key {name!r} for {kind}; {takes}.")
-        if name in values:
-            raise UsageError("--body", f"{name} is given twice; {takes}.")
+    for name, value in _key_values(pairs, expected, kind, takes, "NAME=NUMBER").items():
         try:
             values[name] = float(value)
         except ValueError:
-            raise UsageError("--body", f"expected NAME=NUMBER, got {pair!r}; {takes}.") from None
+            raise UsageError(
+                "--body", f"expected NAME=NUMBER, got {f'{name}={value}'!r}; {takes}."
+            ) from None
     missing = [n for n in expected if n not in values]
     if missing:
         raise UsageError("--body", f"missing {', '.join(missing)}; {takes}.")
