@@ -192,7 +192,7 @@ def test_ctrl_c_stops_simulate(case):
 
 
 # ---------------------------------------------------------------------------------------------
-# principal on 1e7 tensors
+# principal on 1.5e7 tensors (about 3 s of CPU since the lane kernel)
 # ---------------------------------------------------------------------------------------------
 
 
@@ -203,11 +203,11 @@ def test_ctrl_c_stops_principal():
     probe = np.ascontiguousarray(np.tile(base, (1000, 1, 1)))  # 1e6 tensors, to scale from
     started = time.process_time()
     ph.principal(probe)
-    full_cpu = 10 * (time.process_time() - started)
+    full_cpu = 15 * (time.process_time() - started)
     del probe
-    tensors = np.ascontiguousarray(np.tile(base, (10_000, 1, 1)))  # 1e7 tensors, 720 MB
+    tensors = np.ascontiguousarray(np.tile(base, (15_000, 1, 1)))  # 1.5e7 tensors, 1.1 GB
     record = interrupt(lambda: ph.principal(tensors), lambda cpu: cpu >= 0.3)
-    assert_stopped(record, full_cpu, "principal, 1e7 tensors")
+    assert_stopped(record, full_cpu, "principal, 1.5e7 tensors")
 
 
 # ---------------------------------------------------------------------------------------------
