@@ -393,6 +393,20 @@ def test_run_gives_every_row_with_finite_ratios(monkeypatch):
     assert all(line.count("|") == 11 for line in rows)
 
 
+def test_run_only_some_groups(monkeypatch):
+    monkeypatch.setattr(kernels, "SIZES", {**kernels.SIZES, "eigensolve": (200, 200)})
+    monkeypatch.setattr(kernels, "SMALL_CALLS", 3)
+    result = kernels.run(quick=True, repeats=1, limits_size=2**20,
+                         only=["small_calls", "eigensolve"])
+    # In the table's order, whatever the order asked.
+    assert [row.key for row in result.rows] == [
+        "eigensolve", "eigensolve_degenerate", "simulate", "analyze"]
+    for only in (["eigen"], []):
+        with pytest.raises(ph.errors.ArgumentError, match="only") as error:
+            kernels.run(quick=True, only=only)
+        assert error.value.argument == "only"
+
+
 def test_polhode_bench_kernels_prints_the_table(monkeypatch, capsys):
     from polhode.cli import main
 

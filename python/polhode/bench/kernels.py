@@ -599,10 +599,29 @@ SIZES = {
 SMALL_CALLS = 200
 
 
-def run(quick: bool = False, repeats: int = 5, limits_size: int | None = None) -> Kernels:
+#: The groups of rows :func:`run` can be limited to (``only``), in the table's order.
+GROUPS = ("eigensolve", "mesh", "point_masses", "exact", "batch", "small_calls")
+
+
+def run(
+    quick: bool = False,
+    repeats: int = 5,
+    limits_size: int | None = None,
+    only: Sequence[str] | None = None,
+) -> Kernels:
     """Every row, at the issue's sizes or (``quick``) at a tenth of them (meshes of 20,480
     faces), each a median of ``repeats`` (at least 5) interleaved repeats; the limits measured
-    first (the bandwidth on ``limits_size`` bytes: 256 MiB, 64 MiB when ``quick``)."""
+    first (the bandwidth on ``limits_size`` bytes: 256 MiB, 64 MiB when ``quick``). ``only``:
+    the groups of :data:`GROUPS` to run (all when None)."""
+    from polhode.errors import ArgumentError
+
+    chosen = GROUPS if only is None else tuple(only)
+    unknown = sorted(set(chosen) - set(GROUPS))
+    if unknown or not chosen:
+        raise ArgumentError(
+            f"only: unknown group(s) {unknown or chosen!r}; choose from {', '.join(GROUPS)}",
+            argument="only",
+        )
     repeats = max(5, repeats)
     pick = 1 if quick else 0
     if limits_size is None:
@@ -610,14 +629,20 @@ def run(quick: bool = False, repeats: int = 5, limits_size: int | None = None) -
     limits = machine_limits(limits_size)
     rows: list[Row] = []
     skipped: list[str] = []
-    rows += eigensolve(SIZES["eigensolve"][pick], repeats)
-    m = mesh(SIZES["mesh"][pick], repeats)
-    if m is None:
-        skipped.append("the mesh row (trimesh is not installed)")
-    else:
-        rows.append(m)
-    rows.append(point_masses(SIZES["point_masses"][pick], repeats))
-    rows += exact(SIZES["exact"][pick], repeats)
-    rows += batch(SIZES["batch"][pick], repeats)
-    rows += small_calls(SMALL_CALLS, repeats)
+    if "eigensolve" in chosen:
+        rows += eigensolve(SIZES["eigensolve"][pick], repeats)
+    if "mesh" in chosen:
+        m = mesh(SIZES["mesh"][pick], repeats)
+        if m is None:
+            skipped.append("the mesh row (trimesh is not installed)")
+        else:
+            rows.append(m)
+    if "point_masses" in chosen:
+        rows.append(point_masses(SIZES["point_masses"][pick], repeats))
+    if "exact" in chosen:
+        rows += exact(SIZES["exact"][pick], repeats)
+    if "batch" in chosen:
+        rows += batch(SIZES["batch"][pick], repeats)
+    if "small_calls" in chosen:
+        rows += small_calls(SMALL_CALLS, repeats)
     return Kernels(rows, limits, repeats, skipped)
