@@ -39,9 +39,11 @@ def test_demo_shows_the_major_axis_rule(capsys):
     assert final == pytest.approx(ell2 / (2 * 5.0), abs=1e-4)
     assert float(out.split("|L| fixed to ")[1].split(";")[0]) < 1e-8
     rate = float(out.split("grows at ")[1].split()[0])
-    assert rate == pytest.approx(
-        ph.rotors.nutation_rate((1.0, 4.0, 5.0), (2.0, 0.01, 0.01),
-                                ph.rotors.SphericalDamper(0.2, 0.1)), abs=1e-4)
+    expected = ph.rotors.nutation_rate((1.0, 4.0, 5.0), (2.0, 0.01, 0.01),
+                                       ph.rotors.SphericalDamper(0.2, 0.1))
+    assert rate == pytest.approx(expected, abs=1e-4)
+    time_constant = float(out.split("e-folding time ")[1].split()[0])
+    assert time_constant == pytest.approx(1 / expected, abs=0.05)
 
 
 def test_demo_writes_its_plots_into_the_output_folder(tmp_path, capsys):

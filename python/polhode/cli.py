@@ -155,19 +155,21 @@ def _flip_animation(body: ph.Body, spin: Any, flip_interval: float, out: str) ->
 DAMPED = {"moments": (1.0, 4.0, 5.0), "omega0": (2.0, 0.01, 0.01), "inertia": 0.2, "damping": 0.1}
 
 
-def _damped() -> tuple[ph.Trajectory, float]:
-    """The damped spin of :data:`DAMPED` over about 13 growth times, and its nutation rate."""
+def _damped() -> tuple[ph.Trajectory, ph.Analysis]:
+    """The damped spin of :data:`DAMPED` over about 13 growth times, and its analysis (with
+    the damper's nutation rate and time constant)."""
     damper = ph.rotors.SphericalDamper(DAMPED["inertia"], DAMPED["damping"])
-    rate = ph.rotors.nutation_rate(DAMPED["moments"], DAMPED["omega0"], damper)
     t = np.linspace(0.0, 400.0, 4001)
     sol = ph.simulate(DAMPED["moments"], DAMPED["omega0"], t, rotors=[damper])
-    return sol, rate
+    return sol, ph.analyze(DAMPED["moments"], DAMPED["omega0"], rotors=[damper])
 
 
 def _damper_demo() -> None:
     """The major-axis rule: a damper drains T at fixed |L| until the body spins about its
     largest axis."""
-    sol, rate = _damped()
+    sol, analysis = _damped()
+    rate, time_constant = analysis.nutation_rate, analysis.nutation_time_constant
+    assert rate is not None and time_constant is not None
     moments = np.asarray(DAMPED["moments"])
     ell = np.linalg.norm(sol.angular_momentum_space, axis=1)
     l2 = ell[0] ** 2
@@ -179,8 +181,8 @@ def _damper_demo() -> None:
         f"(J {DAMPED['inertia']:g}, c {DAMPED['damping']:g})"
     )
     print(
-        f"  predicted       the nutation grows at {rate:.4f} /s (e-folding time {1 / rate:.1f} s), "
-        "linearised"
+        f"  predicted       the nutation grows at {rate:.4f} /s "
+        f"(e-folding time {time_constant:.1f} s), linearised"
     )
     print(
         f"  energy          T {sol.energy[0]:.4f} -> {sol.energy[-1]:.4f}; crosses the "
