@@ -78,7 +78,7 @@
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::carlson::{carlson_rf, carlson_rj};
-use super::dd::{agm1, cel, Dd};
+use super::dd::{agm1, cel, cel_many, Dd};
 use super::elliptic::{ellipf, ellipk_dd, Landen};
 use super::xd::{asinh_xd, exact_sum_a_b2_diff, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
@@ -890,8 +890,12 @@ impl FreeRotation {
             let mc = mc_dd.to_f64();
             let k = ellipk_dd(mc_dd);
             let kp_dd = mc_dd.sqrt();
-            let j_half = cel(kp_dd, nu_dd + 1.0, Dd::ZERO, Dd::ONE) * 2.0;
-            let jc_quarter = cel(kp_dd, nu_dd + 1.0, Dd::ONE, Dd::ZERO);
+            let [half, jc_quarter] = cel_many(
+                kp_dd,
+                nu_dd + 1.0,
+                [(Dd::ZERO, Dd::ONE), (Dd::ONE, Dd::ZERO)],
+            );
+            let j_half = half * 2.0;
             // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
             // reflected about K when cn < 0. In the outer half (c^2 < k'/(1 + k') = cn^2(K/2)),
             // u0 = +-(K - v) with y = sd v = |c| / k' (cn(K - v) = k' sd v):
