@@ -706,6 +706,21 @@ fn exact_body(
                 quaternion[4 * k..4 * k + 4].copy_from_slice(&[qb.i, qb.j, qb.k, qb.w]);
                 momentum_space[3 * k..3 * k + 3].copy_from_slice((q * l).as_slice());
             }
+            // All finite (the rule): one sum, finite unless a term is not (or the sum
+            // overflows); the first culprit is looked for only then.
+            let mut sum = energy[k];
+            for x in [&omega, &momentum_body] {
+                sum += x[3 * k] + x[3 * k + 1] + x[3 * k + 2];
+            }
+            if let (Some(q), Some(l)) = (
+                quaternion.get(4 * k..4 * k + 4),
+                momentum_space.get(3 * k..3 * k + 3),
+            ) {
+                sum += q[0] + q[1] + q[2] + q[3] + l[0] + l[1] + l[2];
+            }
+            if sum.is_finite() {
+                return;
+            }
             let rows: [(Quantity, &[f64]); 5] = [
                 (Quantity::Omega, &omega[3 * k..3 * k + 3]),
                 (
