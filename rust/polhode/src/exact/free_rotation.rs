@@ -78,7 +78,7 @@
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::carlson::{carlson_rf, carlson_rj};
-use super::dd::{agm1, cel, round, Dd};
+use super::dd::{agm1, cel, Dd};
 use super::elliptic::{ellipf, ellipk_dd, Landen};
 use super::xd::{asinh_xd, exact_sum_a_b2_diff, exp_dd, ldexp, Sd, Xd};
 use crate::error::{finite, positive};
@@ -392,8 +392,8 @@ fn wrap(x: Dd) -> f64 {
     // The quotient by 2 pi rounded from a double product (a few turns off at most when |x| is
     // large), then once more from the remainder, which is small: exact.
     let inv = 1.0 / std::f64::consts::TAU;
-    let r = x - Dd::TAU * round(x.hi * inv);
-    let j = round(r.hi * inv);
+    let r = x - Dd::TAU * super::dd::round(x.hi * inv);
+    let j = super::dd::round(r.hi * inv);
     if j == 0.0 {
         r.to_f64()
     } else {
@@ -1325,7 +1325,7 @@ impl Elliptic {
     /// to about `2^50 K`): the quotient from a double product, corrected by one where it is off.
     fn reduce_quarter(&self, u: Dd) -> (i64, Dd) {
         let k = self.k;
-        let mut q = round(u.hi * self.inv_k);
+        let mut q = super::dd::round(u.hi * self.inv_k);
         let mut v = u - k * q;
         for _ in 0..2 {
             if v.hi > 0.5 * k.hi {
@@ -1344,7 +1344,7 @@ impl Elliptic {
     fn reduce(&self, u: Dd) -> (f64, i64, Dd, Dd) {
         if self.c.u0_q == 0 {
             let k2 = self.k * 2.0;
-            let mut j = round(u.hi * self.inv_k2);
+            let mut j = super::dd::round(u.hi * self.inv_k2);
             let mut w = u - k2 * j;
             for _ in 0..2 {
                 if w.hi > self.k.hi {
