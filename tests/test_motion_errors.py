@@ -585,3 +585,21 @@ ANALYZE_ERRORS = [
 )
 def test_analyze_errors(label, call, kind, name):
     raises(kind, name, call)
+
+
+@pytest.mark.parametrize("m", [3, 10_000])
+@pytest.mark.parametrize("moments", [(1e308, 1e308, 1e308), (1e308, 0.5e308, 0.7e308)])
+def test_an_exact_output_that_overflows_names_its_quantity_and_time(moments, m):
+    # |L| = 1e308 along the body's x axis, turned half a turn about y: omega, L in body axes
+    # and T are finite, L in space (2 v x L on the way, v the quaternion's vector part) is not.
+    # 10 000 output times are evaluated in parallel chunks, 3 on the calling thread: the same
+    # error, at the first time.
+    t = np.linspace(0.0, 1.0, m)
+    error = raises(
+        ph.NonFiniteError,
+        "`angular_momentum_space` is -inf",
+        lambda: ph.simulate(
+            moments, (1.0, 0.0, 0.0), t, method="exact", orientation0=(0.0, 1.0, 0.0, 0.0)
+        ),
+    )
+    assert "t = 0:" in str(error)

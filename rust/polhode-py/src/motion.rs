@@ -12,7 +12,7 @@ use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::simulation::{
-    orientation_from_matrix, orientation_from_quaternion, Body, Outputs, Simulation,
+    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Simulation,
 };
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -223,10 +223,12 @@ pub fn simulate<'py>(
         )));
     }
     let serial = spec.as_ref().is_some_and(calls_python) || rotors.iter().any(|r| r.has_function());
-    // Inline on the calling thread: one body, a Python torque (it attaches the GIL), or a
+    // Inline on the calling thread: one body (unless its output times are spread over the
+    // pool: the exact solution at many times), a Python torque (it attaches the GIL), or a
     // call from a thread of the pool itself (a torque function running a simulation, which
     // could otherwise wait for a job queued behind its own thread).
-    let inline = omega0.len() <= 1 || serial || rayon::current_thread_index().is_some();
+    let one_thread = omega0.len() <= 1 && !spreads_times(&method, times.len());
+    let inline = one_thread || serial || rayon::current_thread_index().is_some();
     let run = Simulation {
         method,
         t0,

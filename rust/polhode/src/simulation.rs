@@ -29,10 +29,11 @@ use rayon::prelude::*;
 
 use crate::dynamics::lanes;
 use crate::dynamics::{
-    integrate_body, integrate_gyrostat, BodyContext, Gyrostat, Method, Moments, Monitor, Options,
-    RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
+    exact_range, integrate_body, integrate_gyrostat, BodyContext, Gyrostat, Method, Moments,
+    Monitor, Options, RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
 };
 use crate::error::finite;
+use crate::exact::FreeRotation;
 use crate::mass::{check_rotation, MassProperties};
 use crate::{Error, Result};
 
@@ -572,6 +573,225 @@ impl Column {
     }
 }
 
+/// Output times of one body evaluated together by the exact solution: the unit of its work
+/// on the rayon pool (about a millisecond).
+const EXACT_CHUNK: usize = 4096;
+
+/// Whether [`simulate`] (with [`Simulation::parallel`]) spreads the output times of each body
+/// over the rayon pool: for the exact solution at more than a few thousand output times
+/// (each output depends on its time alone, so the numbers are the same bit for bit).
+#[must_use]
+pub fn spreads_times(method: &Method, m: usize) -> bool {
+    matches!(method, Method::Exact) && m > EXACT_CHUNK
+}
+
+/// One body's rows of the columns of a torque-free run by the exact solution (no rotors):
+/// each a pointer to the body's first number.
+struct ExactColumns {
+    omega: Column,
+    quaternion: Option<Column>,
+    momentum_space: Option<Column>,
+    momentum_body: Column,
+    energy: Column,
+}
+
+impl ExactColumns {
+    /// Body `i`'s rows of `columns` (as [`simulate`] lays them out).
+    fn new(i: usize, columns: &[Quantity], shared: &[(Column, usize)]) -> Self {
+        let find = |quantity: Quantity| {
+            columns
+                .iter()
+                .zip(shared)
+                .find(|(q, _)| **q == quantity)
+                // SAFETY: body i's rows start at i * len, inside the column.
+                .map(|(_, &(column, len))| Column(unsafe { column.0.add(i * len) }))
+        };
+        let required = |quantity: Quantity| {
+            find(quantity).unwrap_or_else(|| unreachable!("{} is always reported", quantity.name()))
+        };
+        Self {
+            omega: required(Quantity::Omega),
+            quaternion: find(Quantity::Quaternion),
+            momentum_space: find(Quantity::AngularMomentumSpace),
+            momentum_body: required(Quantity::AngularMomentumBody),
+            energy: required(Quantity::Energy),
+        }
+    }
+}
+
+impl Column {
+    /// `count` numbers from `start` (a body's pointer, see [`ExactColumns`]).
+    ///
+    /// # Safety
+    /// In bounds of the body's rows, and no two live slices overlap.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn span<'a>(self, start: usize, count: usize) -> &'a mut [f64] {
+        // SAFETY: by the caller's contract.
+        unsafe { std::slice::from_raw_parts_mut(self.0.add(start), count) }
+    }
+}
+
+/// The error of an output `quantity` that is not finite at `t` (as [`Rows::write`] gives it).
+#[cold]
+fn not_finite(quantity: Quantity, t: f64, value: f64) -> Error {
+    Error::BlewUp {
+        name: "t".into(),
+        what: format!("`{}`", quantity.name()),
+        hint: "the motion leaves double precision before the times asked for.".into(),
+        t,
+        value,
+    }
+}
+
+/// A torque-free body by the exact solution: its outputs at the times `t` written straight
+/// into its rows of the columns, in chunks of [`EXACT_CHUNK`] times (on the rayon pool if
+/// `parallel`), each number as [`Sample::write`] forms it. The quaternions are made
+/// continuous in time afterwards, in one pass in order (looking at the monitor as the writing
+/// of outputs does): the same signs as written one time after another. The numbers do not depend on the chunks nor on the threads. The error is
+/// that of the first time whose evaluation fails (a cancelled monitor, a time beyond the
+/// solution's reach), else of the first output that is not finite, as when the whole
+/// trajectory is evaluated before it is written.
+fn exact_body(
+    body: &Prepared,
+    state: &State,
+    t: &[f64],
+    options: &Options,
+    out: &ExactColumns,
+    parallel: bool,
+) -> Result<Stats> {
+    let state0 = crate::dynamics::start(&Method::Exact, state, t, options)?;
+    let moments = *body.moments.moments();
+    let free = FreeRotation::new(moments, state0.omega, state0.orientation)?;
+    let frame = body.frame.map(|f| (f.matrix, f.rotation.inverse()));
+    let orientation = options.with_orientation;
+    // One chunk: the first error of an evaluation, or else of an output.
+    let chunk = |start: usize| -> (Option<Error>, Option<Error>) {
+        let count = EXACT_CHUNK.min(t.len() - start);
+        // SAFETY: this chunk's rows of the body's columns (chunks are disjoint).
+        let (omega, momentum_body, energy) = unsafe {
+            (
+                out.omega.span(3 * start, 3 * count),
+                out.momentum_body.span(3 * start, 3 * count),
+                out.energy.span(start, count),
+            )
+        };
+        let (quaternion, momentum_space) = match (out.quaternion, out.momentum_space) {
+            // SAFETY: as above.
+            (Some(q), Some(l)) if orientation => unsafe {
+                (q.span(4 * start, 4 * count), l.span(3 * start, 3 * count))
+            },
+            _ => (&mut [][..], &mut [][..]),
+        };
+        let mut failed: Option<Error> = None;
+        let evaluated = exact_range(&free, t, start..start + count, options, |j, w, q| {
+            if failed.is_some() {
+                return;
+            }
+            let k = j - start;
+            // As `Sample::write`: L = I omega and T in principal axes, then into body axes.
+            let l = moments.component_mul(w);
+            let (wb, lb) = match &frame {
+                Some((matrix, _)) => (matrix * w, matrix * l),
+                None => (*w, l),
+            };
+            omega[3 * k..3 * k + 3].copy_from_slice(wb.as_slice());
+            momentum_body[3 * k..3 * k + 3].copy_from_slice(lb.as_slice());
+            energy[k] = 0.5 * w.dot(&l);
+            if let Some(q) = q {
+                // R_b = R_p V^T; the sign is settled afterwards.
+                let qb = match &frame {
+                    Some((_, inverse)) => (q * inverse).into_inner(),
+                    None => q.into_inner(),
+                };
+                quaternion[4 * k..4 * k + 4].copy_from_slice(&[qb.i, qb.j, qb.k, qb.w]);
+                momentum_space[3 * k..3 * k + 3].copy_from_slice((q * l).as_slice());
+            }
+            // All finite (the rule): one sum, finite unless a term is not (or the sum
+            // overflows); the first culprit is looked for only then.
+            let mut sum = energy[k];
+            for x in [&omega, &momentum_body] {
+                sum += x[3 * k] + x[3 * k + 1] + x[3 * k + 2];
+            }
+            if let (Some(q), Some(l)) = (
+                quaternion.get(4 * k..4 * k + 4),
+                momentum_space.get(3 * k..3 * k + 3),
+            ) {
+                sum += q[0] + q[1] + q[2] + q[3] + l[0] + l[1] + l[2];
+            }
+            if sum.is_finite() {
+                return;
+            }
+            let rows: [(Quantity, &[f64]); 5] = [
+                (Quantity::Omega, &omega[3 * k..3 * k + 3]),
+                (
+                    Quantity::Quaternion,
+                    quaternion.get(4 * k..4 * k + 4).unwrap_or(&[]),
+                ),
+                (
+                    Quantity::AngularMomentumSpace,
+                    momentum_space.get(3 * k..3 * k + 3).unwrap_or(&[]),
+                ),
+                (
+                    Quantity::AngularMomentumBody,
+                    &momentum_body[3 * k..3 * k + 3],
+                ),
+                (Quantity::Energy, &energy[k..=k]),
+            ];
+            for (quantity, values) in rows {
+                if let Some(&value) = values.iter().find(|x| !x.is_finite()) {
+                    failed = Some(not_finite(quantity, t[j], value));
+                    return;
+                }
+            }
+        });
+        (evaluated.err(), failed)
+    };
+    let starts: Vec<usize> = (0..t.len()).step_by(EXACT_CHUNK).collect();
+    let results: Vec<(Option<Error>, Option<Error>)> = if parallel && starts.len() > 1 {
+        starts.par_iter().map(|&s| chunk(s)).collect()
+    } else {
+        starts.iter().map(|&s| chunk(s)).collect()
+    };
+    let mut output_error = None;
+    for (evaluation, output) in results {
+        if let Some(error) = evaluation {
+            return Err(error);
+        }
+        output_error = output_error.or(output);
+    }
+    if let Some(error) = output_error {
+        return Err(error);
+    }
+    // The run is done; its outputs are settled as written ones are, looking at the monitor.
+    if let Some(monitor) = options.monitor {
+        monitor.add_finished();
+    }
+    if let Some(q) = out.quaternion.filter(|_| orientation) {
+        // One sign per trajectory: continuous in time (as `Sample::write`, in order).
+        // SAFETY: the body's quaternion rows, no chunk alive.
+        let rows = unsafe { q.span(0, 4 * t.len()) };
+        let mut previous: Option<Quaternion<f64>> = None;
+        for (j, row) in rows.chunks_exact_mut(4).enumerate() {
+            if j % OUTPUT_LOOK_EVERY == OUTPUT_LOOK_EVERY - 1 {
+                if let Some(monitor) = options.monitor {
+                    monitor.look()?;
+                }
+            }
+            let mut q = Quaternion::new(row[3], row[0], row[1], row[2]);
+            if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
+                q = -q;
+                row.copy_from_slice(&[q.i, q.j, q.k, q.w]);
+            }
+            previous = Some(q);
+        }
+    }
+    Ok(Stats {
+        steps: 0,
+        rejected_steps: 0,
+        rhs_evaluations: t.len() as u64,
+    })
+}
+
 /// The blocks of at most [`lanes::LANES`] bodies integrated together, in the order of their
 /// indices: consecutive bodies, except for the splitting, whose bodies are grouped by their
 /// axis order (`axes(i)`; `None` for a body that fails before its run), which a block shares.
@@ -720,6 +940,10 @@ pub fn simulate(
             // SAFETY: body i's rows, written by this call alone.
             unsafe { rows.write(j, &sample) }
         };
+        if rotors == 0 && matches!(run.method, Method::Exact) {
+            let columns = ExactColumns::new(i, &columns, &shared);
+            return exact_body(&body, &state, t, &options, &columns, run.parallel);
+        }
         if rotors > 0 {
             let frame = body.frame.map_or_else(Matrix3::identity, |f| f.matrix);
             let gyrostat = Gyrostat::new(body.moments.moments(), &frame, &run.rotors)?;

@@ -4,6 +4,7 @@ use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use polhode::dynamics::{
     integrate, Dop853Options, Method, Monitor, Options, SplittingOrder, State, TorqueSpec,
 };
+use polhode::exact::FreeRotation;
 use polhode::simulation::{simulate, Body, Quantity, Simulation};
 use polhode::{Error, MassProperties};
 
@@ -496,4 +497,154 @@ fn torque_models_from_their_fields() {
     };
     assert_eq!(argument("Gravity").as_deref(), Some("gravity"));
     assert_eq!(argument("Magnet").as_deref(), Some("torque"));
+}
+
+/// The exact solution at more output times than one chunk of its parallel work (4096): every
+/// number the same bit for bit whatever the threads, serial or parallel, in a batch or alone,
+/// and as each time evaluated alone (a one-time run, which has no earlier quaternion to
+/// follow), the quaternions' signs those of the rule (each the sign whose dot product with
+/// the one before is not negative).
+#[test]
+fn the_exact_solution_at_many_times_is_bitwise_each_time_alone_whatever_the_threads() {
+    let r = Rotation3::from_euler_angles(0.4, -0.7, 0.5);
+    let tensor =
+        r.matrix() * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.5)) * r.matrix().transpose();
+    let bodies = [
+        Body::Moments(Vector3::new(1.0, 2.0, 3.0)),
+        Body::Inertia(tensor),
+        Body::Moments(Vector3::new(2.0, 2.0, 5.0)),
+    ];
+    let omega = [
+        Vector3::new(0.3, 0.5, 0.8),
+        Vector3::new(1.0, -0.3, 0.4),
+        Vector3::new(0.2, 0.1, 2.0),
+    ];
+    let q0 = [UnitQuaternion::from_euler_angles(0.1, -0.2, 0.3)];
+    // 2.5 chunks, from t0 = 0.25, with repeated times and a jump.
+    let mut t: Vec<f64> = (0..10_000).map(|k| 0.25 + f64::from(k) * 7e-3).collect();
+    t[5000] = t[4999];
+    for x in &mut t[8000..] {
+        *x += 1e4;
+    }
+    for orientation in [true, false] {
+        let run = Simulation {
+            t0: 0.25,
+            with_orientation: orientation,
+            ..Simulation::new(Method::Exact)
+        };
+        let serial = Simulation {
+            parallel: false,
+            ..run.clone()
+        };
+        let batch = simulate(&serial, &bodies, &omega, &q0, &t, None).unwrap();
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let parallel = pool
+                .install(|| simulate(&run, &bodies, &omega, &q0, &t, None))
+                .unwrap();
+            assert_eq!(parallel, batch, "{threads} threads");
+        }
+        for (i, body) in bodies.iter().enumerate() {
+            let alone = simulate(
+                &run,
+                &[*body],
+                &omega[i..=i],
+                &q0,
+                &t,
+                Some(&Monitor::new()),
+            )
+            .unwrap();
+            let rows = body_rows(&batch, i);
+            assert_eq!(body_rows(&alone, 0), rows, "body {i} alone");
+            if !orientation {
+                continue;
+            }
+            let mut previous: Option<[f64; 4]> = None;
+            for (j, &tj) in t.iter().enumerate() {
+                let once = simulate(&serial, &[*body], &omega[i..=i], &q0, &[tj], None).unwrap();
+                for ((quantity, data), row) in once.columns.iter().zip(&rows) {
+                    let w = quantity.width(0);
+                    let got = &row[j * w..(j + 1) * w];
+                    if *quantity != Quantity::Quaternion {
+                        assert_eq!(got, &data[..], "body {i}, {quantity:?} at t[{j}]");
+                        continue;
+                    }
+                    let dot = |p: &[f64; 4], q: &[f64]| {
+                        p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3]
+                    };
+                    let flip = previous.is_some_and(|p| dot(&p, data) < 0.0);
+                    let want: Vec<f64> = data.iter().map(|&x| if flip { -x } else { x }).collect();
+                    assert_eq!(got, &want[..], "body {i}, quaternion at t[{j}]");
+                    previous = Some([got[0], got[1], got[2], got[3]]);
+                }
+            }
+        }
+    }
+}
+
+/// The exact solution at many output times on several threads: its progress adds up to the
+/// time span, once finished; a cancel during the run stops it; and a time beyond the
+/// solution's reach is the error of the first such time, as evaluated alone.
+#[test]
+fn the_exact_solution_at_many_times_reports_progress_stops_and_fails_as_one_run() {
+    let body = [Body::Moments(Vector3::new(1.0, 2.0, 3.0))];
+    let omega = [Vector3::new(0.3, 0.5, 0.8)];
+    let q0 = [UnitQuaternion::identity()];
+    let t: Vec<f64> = (0..20_000).map(|k| 1.0 + f64::from(k) * 1e-2).collect();
+    let run = Simulation {
+        t0: 1.0,
+        ..Simulation::new(Method::Exact)
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let monitor = Monitor::new();
+    pool.install(|| simulate(&run, &body, &omega, &q0, &t, Some(&monitor)))
+        .unwrap();
+    let span = t[t.len() - 1] - 1.0;
+    assert!(
+        (monitor.elapsed() - span).abs() <= 1e-9 * span,
+        "{}",
+        monitor.elapsed()
+    );
+    assert_eq!(monitor.finished(), 1);
+
+    // Cancelled once a fifth of the span is done: the run stops before its end.
+    let looks = std::sync::atomic::AtomicUsize::new(0);
+    let monitor = Monitor::with_on_look(move |monitor| {
+        looks.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if monitor.elapsed() > 0.2 * span {
+            monitor.cancel();
+        }
+    });
+    let error = pool
+        .install(|| simulate(&run, &body, &omega, &q0, &t, Some(&monitor)))
+        .unwrap_err();
+    assert_eq!(error, Error::Interrupted);
+    assert_eq!(monitor.finished(), 0);
+    assert!(monitor.elapsed() < 0.9 * span, "{}", monitor.elapsed());
+
+    // Beyond the reach of double precision from t[6000] on (the second chunk): the error of
+    // that time, serial or parallel.
+    let free = FreeRotation::new(Vector3::new(1.0, 2.0, 3.0), omega[0], q0[0]).unwrap();
+    let mut far = t.clone();
+    let beyond = 2.0 * free.max_time();
+    for (k, x) in far[6000..].iter_mut().enumerate() {
+        *x = beyond + k as f64 * 1e3;
+    }
+    let expected = free.try_state(far[6000] - 1.0).unwrap_err();
+    for parallel in [false, true] {
+        let run = Simulation {
+            parallel,
+            ..run.clone()
+        };
+        let error = pool
+            .install(|| simulate(&run, &body, &omega, &q0, &far, None))
+            .unwrap_err();
+        assert_eq!(error, expected, "parallel: {parallel}");
+    }
 }

@@ -374,22 +374,6 @@ impl Collector {
         Ok(())
     }
 
-    /// The output at `t`: `w`, and the unit quaternion `q` as it is (kept only if the
-    /// orientation is returned).
-    #[inline]
-    fn push_unit(
-        &mut self,
-        t: f64,
-        w: &Vector3<f64>,
-        q: Option<&UnitQuaternion<f64>>,
-    ) -> Result<()> {
-        self.push_omega(t, w)?;
-        if let (Some(list), Some(q)) = (self.orientation.as_mut(), q) {
-            list.push(*q);
-        }
-        Ok(())
-    }
-
     #[inline]
     fn push_omega(&mut self, t: f64, w: &Vector3<f64>) -> Result<()> {
         check_omega_output(self.fixed_step, t, w)?;
@@ -725,23 +709,61 @@ fn run_exact(
     col: &mut Collector,
 ) -> Result<Stats> {
     let free = FreeRotation::new(*body.moments(), state0.omega, state0.orientation)?;
-    let progress = Progress::new(options.monitor, options.t0, EXACT_CHECK_EVERY);
-    for &t in times {
-        progress.spend(1, || t)?;
-        // The fallible forms: a time past double precision's reach is an error naming `t`.
-        if options.with_orientation {
-            let (w, q) = free.try_state(t - options.t0)?;
-            col.push_unit(t, &w, Some(&q))?;
-        } else {
-            col.push_unit(t, &free.try_omega(t - options.t0)?, None)?;
+    exact_range(&free, times, 0..times.len(), options, |_, w, q| {
+        // Checked finite by `exact_range`.
+        col.omega.push(*w);
+        if let (Some(list), Some(q)) = (col.orientation.as_mut(), q) {
+            list.push(*q);
         }
+    })?;
+    if let Some(monitor) = options.monitor {
+        monitor.add_finished();
     }
-    progress.finish(times.last().copied().unwrap_or(options.t0));
     Ok(Stats {
         steps: 0,
         rejected_steps: 0,
         rhs_evaluations: times.len() as u64,
     })
+}
+
+/// [`Method::Exact`] at the output times `times[range]` of the motion `free` (from
+/// `options.t0`; the orientation only if `options.with_orientation`): `out(j, omega, q)` for
+/// each `j` in `range`, in order, `omega` checked finite. Looks at the monitor every
+/// [`EXACT_CHECK_EVERY`] times and reports the time from `times[range.start - 1]` (`t0` for
+/// the first) to the range's last, without counting the run finished: the ranges of a run
+/// add up to it, evaluated in any order (each output depends on its time alone). The first
+/// error stops the range: a cancelled monitor, a time beyond [`FreeRotation::max_time`], an
+/// output that is not finite.
+pub(crate) fn exact_range(
+    free: &FreeRotation,
+    times: &[f64],
+    range: std::ops::Range<usize>,
+    options: &Options,
+    mut out: impl FnMut(usize, &Vector3<f64>, Option<&UnitQuaternion<f64>>),
+) -> Result<()> {
+    let from = match range.start {
+        0 => options.t0,
+        k => times[k - 1],
+    };
+    let progress = Progress::new(options.monitor, from, EXACT_CHECK_EVERY);
+    for j in range.clone() {
+        let t = times[j];
+        progress.spend(1, || t)?;
+        // The fallible forms: a time past double precision's reach is an error naming `t`.
+        if options.with_orientation {
+            let (w, q) = free.try_state(t - options.t0)?;
+            check_omega_output(false, t, &w)?;
+            out(j, &w, Some(&q));
+        } else {
+            let w = free.try_omega(t - options.t0)?;
+            check_omega_output(false, t, &w)?;
+            out(j, &w, None);
+        }
+    }
+    if let Some(last) = range.last() {
+        progress.reach(times[last]);
+    }
+    Ok(())
 }
 
 /// Runs `method` on the body under `load`, with or without the orientation: the one place

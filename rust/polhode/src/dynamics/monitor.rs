@@ -213,6 +213,13 @@ impl<'a> Progress<'a> {
         }
     }
 
+    /// A part of the run reached `t` (reported, but not counted finished).
+    pub(crate) fn reach(&self, t: f64) {
+        if let Some(monitor) = self.monitor {
+            self.report(monitor, t);
+        }
+    }
+
     /// The run reached `t_end` successfully.
     pub(crate) fn finish(&self, t_end: f64) {
         if let Some(monitor) = self.monitor {

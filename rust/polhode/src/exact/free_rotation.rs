@@ -392,8 +392,8 @@ fn wrap(x: Dd) -> f64 {
     // The quotient by 2 pi rounded from a double product (a few turns off at most when |x| is
     // large), then once more from the remainder, which is small: exact.
     let inv = 1.0 / std::f64::consts::TAU;
-    let r = x - Dd::TAU * (x.hi * inv).round();
-    let j = (r.hi * inv).round();
+    let r = x - Dd::TAU * super::dd::round(x.hi * inv);
+    let j = super::dd::round(r.hi * inv);
     if j == 0.0 {
         r.to_f64()
     } else {
@@ -1329,7 +1329,7 @@ impl Elliptic {
     /// to about `2^50 K`): the quotient from a double product, corrected by one where it is off.
     fn reduce_quarter(&self, u: Dd) -> (i64, Dd) {
         let k = self.k;
-        let mut q = (u.hi * self.inv_k).round();
+        let mut q = super::dd::round(u.hi * self.inv_k);
         let mut v = u - k * q;
         for _ in 0..2 {
             if v.hi > 0.5 * k.hi {
@@ -1348,7 +1348,7 @@ impl Elliptic {
     fn reduce(&self, u: Dd) -> (f64, i64, Dd, Dd) {
         if self.c.u0_q == 0 {
             let k2 = self.k * 2.0;
-            let mut j = (u.hi * self.inv_k2).round();
+            let mut j = super::dd::round(u.hi * self.inv_k2);
             let mut w = u - k2 * j;
             for _ in 0..2 {
                 if w.hi > self.k.hi {
