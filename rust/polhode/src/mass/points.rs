@@ -18,13 +18,17 @@ impl MassProperties {
     /// Point masses `masses[i]` at `positions[i]` (body coordinates).
     ///
     /// One pass over the points: the offsets `d_i = r_i - r_0` from a reference point (the
-    /// centre of mass of the first 256 points) are formed, and the rows `[sqrt(m_i), sqrt(m_i) d_i]` factored by Householder QR (in parallel chunks,
-    /// blocks of 256 rows, vectorised): with the mass column first, the lower-right 3x3 block of
-    /// the factor is the square root of the second moments about the centre of mass (the Schur
-    /// complement `S2 - S1 S1^T / M`, formed without subtracting squares). Nothing is summed
-    /// about a far origin, and nothing is squared, so the cloud can be 1e8 away from the origin
-    /// or nearly collinear. Masses or offsets near the ends of the range of double precision
-    /// take a second pass, scaled by powers of two.
+    /// centre of mass of the first 256 points) are formed, and the square root of the second
+    /// moments about the centre of mass is found block by block (256 points, in parallel
+    /// chunks, vectorised): each block is centred on the running centre of mass and its rows
+    /// `sqrt(m_i) (d_i - c)` factored together with the running factor and the parallel-axis
+    /// row by modified Gram-Schmidt (see `gram_schmidt_chunk`); a chunk with a bad point or
+    /// numbers near the ends of the safe range is redone by Householder QR of the rows
+    /// `[sqrt(m_i), sqrt(m_i) d_i]` with scaled columns (the mass column first: the lower-right
+    /// 3x3 block of the factor is that of the Schur complement `S2 - S1 S1^T / M`). Nothing is
+    /// summed about a far origin, and nothing is squared before it is centred, so the cloud can
+    /// be 1e8 away from the origin or nearly collinear. Masses or offsets near the ends of the
+    /// range of double precision take a second pass, scaled by powers of two.
     ///
     /// ```
     /// use nalgebra::Vector3;
@@ -88,7 +92,12 @@ impl MassProperties {
                 look()?;
                 crate::simd::dispatch(
                     #[inline(always)]
-                    || one_pass_chunk(m, r, &reference, chunk * CHUNK),
+                    || match gram_schmidt_chunk(m, r, &reference) {
+                        Some(done) => Ok(done),
+                        // A bad point, or numbers near the ends of the range: the chunk again
+                        // by scaled Householder QR (which also names the first bad point).
+                        None => one_pass_chunk(m, r, &reference, chunk * CHUNK),
+                    },
                 )
             })
             .collect();
@@ -535,6 +544,312 @@ where
     Ok((scan, qr.finish()))
 }
 
+/// The weighted squares `m a^2` of the largest entry of a pivot column in
+/// [`gram_schmidt_chunk`] must lie in `2^-SAFE..=2^SAFE` (or the column be zero) for unscaled
+/// arithmetic: the large entries' squares are then normal doubles (>= 2^-900), so what
+/// underflows is below eps of them, and no sum of a block overflows (<= 2^909).
+const SAFE: i32 = 900;
+
+/// `a` if `a > b`, else `b` (one vector instruction; NaN is caught elsewhere).
+#[inline(always)]
+fn fast_max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `a` if `a < b`, else `b`.
+#[inline(always)]
+fn fast_min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// Whether a pivot column of [`gram_schmidt_chunk`] with weighted squares summing to `sum`,
+/// the largest `top`, is safe to use unscaled (see [`SAFE`]). A finite sum means that no term
+/// was NaN or infinite (so `top` is the largest term, and no earlier product overflowed); a
+/// top of 0 is safe only if the column is zero (its squares may have underflowed).
+#[inline(always)]
+fn pivot_safe(sum: f64, top: f64, column: &[f64]) -> bool {
+    if !sum.is_finite() {
+        return false;
+    }
+    if (ldexp(1.0, -SAFE)..=ldexp(1.0, SAFE)).contains(&top) {
+        return true;
+    }
+    top == 0.0 && column.iter().all(|&x| x == 0.0)
+}
+
+/// The largest of `lanes`.
+#[inline(always)]
+fn lanes_max(lanes: &[f64]) -> f64 {
+    lanes.iter().fold(0.0, |a, &b| fast_max(a, b))
+}
+
+/// The fast path of one chunk: the same sums and 4x4 factor as [`one_pass_chunk`] (`R^T R` =
+/// the sum of `row row^T` over the rows `[sqrt(m), sqrt(m) (r - r0)]`), or None when the
+/// chunk has a bad point or numbers for which unscaled arithmetic is not safe (see [`SAFE`]);
+/// the caller then runs [`one_pass_chunk`].
+///
+/// Block by block of [`QR_BLOCK`] points, the state is the mass `M`, the centre `c` (relative
+/// to `reference`) and the upper-triangular factor `R` of the second moments about `c`. A block
+/// is read once (its offsets and masses into columns, while it is in L1; its mass and first
+/// moments); the new centre `c'` follows, and the offsets `d - c'` of its points (weight `m`),
+/// the rows of `R` (weight 1) and the row `c - c'` (weight `M`: the parallel-axis term,
+/// exactly) are factored by modified Gram-Schmidt with the weighted inner product
+/// `sum m x y`, column by column over the block in L1 (centre; the first column's products;
+/// project it out of the others, the second's products; project that out of the third, its
+/// norm). Each loop either updates one column or only sums, in [`SUM_LANES`] fixed lanes, which
+/// is the shape the compiler vectorises (fused loops that update and sum several columns at
+/// once came out partly scalar, 20-30% slower). Gram-Schmidt's `R` is backward stable like
+/// Householder's (Bjorck and Paige 1992: it is Householder QR of the rows under a zero block),
+/// here of the rows `sqrt(m) (d - c')`, so the factor is accurate to eps of the centred rows
+/// (columnwise): nothing is squared before it is centred. No square root per point: the
+/// weights enter the products.
+#[inline(always)]
+fn gram_schmidt_chunk<P>(
+    masses: &[f64],
+    positions: &[P],
+    reference: &Vector3<f64>,
+) -> Option<(Scan, [[f64; 4]; 4])>
+where
+    P: Copy + Into<Vector3<f64>>,
+{
+    const L: usize = SUM_LANES;
+    // Rows 0..n: the block's points; n..n + 3: the rows of R; n + 3: the parallel-axis row.
+    let mut cols = [[0.0f64; QR_BLOCK + 4]; 3];
+    let mut weight = [0.0f64; QR_BLOCK + 4];
+    let mut r = [[0.0f64; 3]; 3];
+    let (mut big_m, mut c) = (0.0f64, [0.0f64; 3]);
+    let mut scan = Scan::default();
+    for (mb, rb) in masses.chunks(QR_BLOCK).zip(positions.chunks(QR_BLOCK)) {
+        let n = mb.len();
+        let rows = n + 4;
+        // The block's offsets from the reference into the columns, its masses as weights.
+        for (i, &ri) in rb.iter().enumerate() {
+            let ri: Vector3<f64> = ri.into();
+            for k in 0..3 {
+                cols[k][i] = ri[k] - reference[k];
+            }
+        }
+        weight[..n].copy_from_slice(mb);
+        // Its mass and first moments, largest and smallest mass, largest offset.
+        let mut s0 = [0.0f64; L];
+        let mut s1 = [[0.0f64; L]; 3];
+        let mut heaviest = [0.0f64; L];
+        let mut lightest = [f64::INFINITY; L];
+        let mut farthest = [0.0f64; L];
+        {
+            let [c0, c1, c2] = &cols;
+            let (x8, x_rest) = c0[..n].as_chunks::<L>();
+            let (y8, y_rest) = c1[..n].as_chunks::<L>();
+            let (z8, z_rest) = c2[..n].as_chunks::<L>();
+            let (m8, m_rest) = weight[..n].as_chunks::<L>();
+            for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
+                for l in 0..L {
+                    s0[l] += m[l];
+                    s1[0][l] += m[l] * x[l];
+                    s1[1][l] += m[l] * y[l];
+                    s1[2][l] += m[l] * z[l];
+                    heaviest[l] = fast_max(heaviest[l], m[l]);
+                    lightest[l] = fast_min(lightest[l], m[l]);
+                    let far = fast_max(fast_max(x[l].abs(), y[l].abs()), z[l].abs());
+                    farthest[l] = fast_max(farthest[l], far);
+                }
+            }
+            for (l, (((x, y), z), m)) in x_rest
+                .iter()
+                .zip(y_rest)
+                .zip(z_rest)
+                .zip(m_rest)
+                .enumerate()
+            {
+                s0[l] += m;
+                s1[0][l] += m * x;
+                s1[1][l] += m * y;
+                s1[2][l] += m * z;
+                heaviest[l] = fast_max(heaviest[l], *m);
+                lightest[l] = fast_min(lightest[l], *m);
+                let far = fast_max(fast_max(x.abs(), y.abs()), z.abs());
+                farthest[l] = fast_max(farthest[l], far);
+            }
+        }
+        let block_mass: f64 = s0.iter().sum();
+        let block_first: [f64; 3] = std::array::from_fn(|k| s1[k].iter().sum());
+        // Every mass finite and positive and every offset finite (a NaN or an infinity reaches
+        // the sums), and nothing overflowed: else the careful path.
+        let lightest = lightest.iter().fold(f64::INFINITY, |a, &b| fast_min(a, b));
+        if !(lightest > 0.0 && block_mass.is_finite() && block_first.iter().all(|x| x.is_finite()))
+        {
+            return None;
+        }
+        scan.mass += block_mass;
+        scan.first += Vector3::from(block_first);
+        scan.heaviest = fast_max(scan.heaviest, lanes_max(&heaviest));
+        scan.farthest = fast_max(scan.farthest, lanes_max(&farthest));
+        // The new centre, and the rows after the block's: R (weight 1), then c - c' (weight M).
+        let total = big_m + block_mass;
+        let centre: [f64; 3] = std::array::from_fn(|k| (big_m * c[k] + block_first[k]) / total);
+        for k in 0..3 {
+            for (i, row) in r.iter().enumerate() {
+                cols[k][n + i] = row[k];
+            }
+            // (0 for the first block, of weight 0, so that a zero column stays zero)
+            cols[k][n + 3] = if big_m > 0.0 { c[k] - centre[k] } else { 0.0 };
+        }
+        weight[n..rows].copy_from_slice(&[1.0, 1.0, 1.0, big_m]);
+        big_m = total;
+        c = centre;
+        // Centre the block's points; the first column's products.
+        for k in 0..3 {
+            for x in &mut cols[k][..n] {
+                *x -= centre[k];
+            }
+        }
+        let mut g0 = [[0.0f64; L]; 3];
+        let mut top = [0.0f64; L];
+        {
+            let [c0, c1, c2] = &cols;
+            let (x8, x_rest) = c0[..rows].as_chunks::<L>();
+            let (y8, y_rest) = c1[..rows].as_chunks::<L>();
+            let (z8, z_rest) = c2[..rows].as_chunks::<L>();
+            let (m8, m_rest) = weight[..rows].as_chunks::<L>();
+            for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
+                let ma: [f64; L] = std::array::from_fn(|l| m[l] * x[l]);
+                for l in 0..L {
+                    let t = ma[l] * x[l];
+                    g0[0][l] += t;
+                    top[l] = fast_max(top[l], t);
+                }
+                for l in 0..L {
+                    g0[1][l] += ma[l] * y[l];
+                }
+                for l in 0..L {
+                    g0[2][l] += ma[l] * z[l];
+                }
+            }
+            for (l, (((x, y), z), m)) in x_rest
+                .iter()
+                .zip(y_rest)
+                .zip(z_rest)
+                .zip(m_rest)
+                .enumerate()
+            {
+                let ma = m * x;
+                let t = ma * x;
+                g0[0][l] += t;
+                g0[1][l] += ma * y;
+                g0[2][l] += ma * z;
+                top[l] = fast_max(top[l], t);
+            }
+        }
+        let g0: [f64; 3] = std::array::from_fn(|k| g0[k].iter().sum());
+        if !pivot_safe(g0[0], lanes_max(&top), &cols[0][..rows]) {
+            return None;
+        }
+        let (r0, f1, f2) = if g0[0] > 0.0 {
+            let r00 = g0[0].sqrt();
+            (
+                [r00, g0[1] / r00, g0[2] / r00],
+                g0[1] / g0[0],
+                g0[2] / g0[0],
+            )
+        } else {
+            ([0.0; 3], 0.0, 0.0)
+        };
+        // Project the first column out of the others; the second column's products.
+        {
+            let [c0, c1, c2] = &mut cols;
+            for (y, x) in c1[..rows].iter_mut().zip(&c0[..rows]) {
+                *y -= f1 * x;
+            }
+            for (z, x) in c2[..rows].iter_mut().zip(&c0[..rows]) {
+                *z -= f2 * x;
+            }
+        }
+        let mut g1 = [[0.0f64; L]; 2];
+        let mut top = [0.0f64; L];
+        {
+            let [_, c1, c2] = &cols;
+            let (y8, y_rest) = c1[..rows].as_chunks::<L>();
+            let (z8, z_rest) = c2[..rows].as_chunks::<L>();
+            let (m8, m_rest) = weight[..rows].as_chunks::<L>();
+            for ((y, z), m) in y8.iter().zip(z8).zip(m8) {
+                let mb: [f64; L] = std::array::from_fn(|l| m[l] * y[l]);
+                for l in 0..L {
+                    let t = mb[l] * y[l];
+                    g1[0][l] += t;
+                    top[l] = fast_max(top[l], t);
+                }
+                for l in 0..L {
+                    g1[1][l] += mb[l] * z[l];
+                }
+            }
+            for (l, ((y, z), m)) in y_rest.iter().zip(z_rest).zip(m_rest).enumerate() {
+                let mb = m * y;
+                let t = mb * y;
+                g1[0][l] += t;
+                g1[1][l] += mb * z;
+                top[l] = fast_max(top[l], t);
+            }
+        }
+        let g1: [f64; 2] = std::array::from_fn(|k| g1[k].iter().sum());
+        if !pivot_safe(g1[0], lanes_max(&top), &cols[1][..rows]) {
+            return None;
+        }
+        let (r1, f) = if g1[0] > 0.0 {
+            let r11 = g1[0].sqrt();
+            ([r11, g1[1] / r11], g1[1] / g1[0])
+        } else {
+            ([0.0; 2], 0.0)
+        };
+        // Project the second column out of the third; its norm.
+        let mut g2 = [0.0f64; L];
+        let mut top = [0.0f64; L];
+        {
+            let [_, c1, c2] = &mut cols;
+            let (y8, y_rest) = c1[..rows].as_chunks::<L>();
+            let (z8, z_rest) = c2[..rows].as_chunks_mut::<L>();
+            let (m8, m_rest) = weight[..rows].as_chunks::<L>();
+            for ((y, z), m) in y8.iter().zip(z8).zip(m8) {
+                for l in 0..L {
+                    let e = z[l] - f * y[l];
+                    z[l] = e;
+                    let t = m[l] * e * e;
+                    g2[l] += t;
+                    top[l] = fast_max(top[l], t);
+                }
+            }
+            for (l, ((y, z), m)) in y_rest.iter().zip(z_rest).zip(m_rest).enumerate() {
+                let e = *z - f * y;
+                *z = e;
+                let t = m * e * e;
+                g2[l] += t;
+                top[l] = fast_max(top[l], t);
+            }
+        }
+        let g2: f64 = g2.iter().sum();
+        if !pivot_safe(g2, lanes_max(&top), &cols[2][..rows]) {
+            return None;
+        }
+        let r22 = g2.sqrt();
+        r = [r0, [0.0, r1[0], r1[1]], [0.0, 0.0, r22]];
+    }
+    let root_m = big_m.sqrt();
+    let factor = [
+        [root_m, root_m * c[0], root_m * c[1], root_m * c[2]],
+        [0.0, r[0][0], r[0][1], r[0][2]],
+        [0.0, 0.0, r[1][1], r[1][2]],
+        [0.0, 0.0, 0.0, r[2][2]],
+    ];
+    Some((scan, factor))
+}
+
 /// One chunk's sums about the first point, unscaled, and its largest mass and offset.
 #[derive(Default)]
 struct Scan {
@@ -562,4 +877,205 @@ fn bad_point(i: usize, mass: f64, position: &Vector3<f64>) -> Error {
         }
     }
     unreachable!("a bad point has a bad number")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Error;
+
+    /// A deterministic generator of small integers in `-span..=span`.
+    struct Ints(u64);
+
+    impl Ints {
+        fn next(&mut self, span: i64) -> i64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 33) % (2 * span as u64 + 1)) as i64 - span
+        }
+    }
+
+    /// The second moments about the centre of mass of integer masses `m` at integer
+    /// coordinates `p` (units of `2^-shift[k]` on axis k), exactly: `(M Q - S S^T) / M` in
+    /// integers, rounded to double (two roundings).
+    fn exact_second_moment(m: &[i64], p: &[[i64; 3]], shift: [i32; 3]) -> Matrix3<f64> {
+        let mass: i128 = m.iter().map(|&x| x as i128).sum();
+        let first: [i128; 3] = std::array::from_fn(|k| {
+            m.iter()
+                .zip(p)
+                .map(|(&w, q)| w as i128 * q[k] as i128)
+                .sum()
+        });
+        Matrix3::from_fn(|j, k| {
+            let q: i128 = m
+                .iter()
+                .zip(p)
+                .map(|(&w, r)| w as i128 * r[j] as i128 * r[k] as i128)
+                .sum();
+            let numerator = mass * q - first[j] * first[k];
+            ldexp(numerator as f64 / mass as f64, -shift[j] - shift[k])
+        })
+    }
+
+    /// Masses 1..=8 at integer coordinates: x within +-2^14, y and z within +-`lateral`, all in
+    /// units of `2^-shift[k]`, plus `offset` (an integer, exact) on every axis.
+    fn cloud(n: usize, lateral: i64, seed: u64) -> (Vec<i64>, Vec<[i64; 3]>) {
+        let mut ints = Ints(seed);
+        let m = (0..n).map(|_| 1 + ints.next(3) + 4).collect();
+        let p = (0..n)
+            .map(|_| [ints.next(1 << 14), ints.next(lateral), ints.next(lateral)])
+            .collect();
+        (m, p)
+    }
+
+    fn to_floats(
+        m: &[i64],
+        p: &[[i64; 3]],
+        shift: [i32; 3],
+        offset: f64,
+    ) -> (Vec<f64>, Vec<[f64; 3]>) {
+        (
+            m.iter().map(|&x| x as f64).collect(),
+            p.iter()
+                .map(|q| std::array::from_fn(|k| ldexp(q[k] as f64, -shift[k]) + offset))
+                .collect(),
+        )
+    }
+
+    /// Every entry of `s` within `64 eps sqrt(S_jj S_kk)` of the exact `exact` (columnwise:
+    /// each axis to eps of its own spread, however small next to the others).
+    fn assert_columnwise(s: &Matrix3<f64>, exact: &Matrix3<f64>, what: &str) {
+        for j in 0..3 {
+            for k in 0..3 {
+                let bound = 64.0 * f64::EPSILON * exact[(j, j)].sqrt() * exact[(k, k)].sqrt();
+                assert!(
+                    (s[(j, k)] - exact[(j, k)]).abs() <= bound,
+                    "{what}: S[{j}, {k}] = {:e}, exact {:e}",
+                    s[(j, k)],
+                    exact[(j, k)]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gram_schmidt_path_matches_exact_sums_for_every_block_shape() {
+        // Block tails (past the last group of 8, the last partial block, the four rows of R
+        // and the parallel-axis row in the lanes), far from the origin, against exact integer
+        // arithmetic, each second moment to 64 eps of its axes' spreads.
+        let shift = [10, 10, 10];
+        for n in [
+            1, 2, 7, 8, 9, 252, 255, 256, 257, 260, 261, 511, 512, 513, 1000, 3000,
+        ] {
+            let (m, p) = cloud(n, 1 << 12, n as u64);
+            let (masses, positions) = to_floats(&m, &p, shift, 1048576.0);
+            let reference = block_center(&masses, &positions);
+            assert!(
+                gram_schmidt_chunk(&masses, &positions, &reference).is_some(),
+                "n = {n}"
+            );
+            let body = MassProperties::point_masses(&masses, &positions).unwrap();
+            let exact = exact_second_moment(&m, &p, shift);
+            assert_columnwise(&body.second_moment(), &exact, &format!("n = {n}"));
+            let mass: i64 = m.iter().sum();
+            assert_eq!(body.mass, mass as f64);
+        }
+    }
+
+    #[test]
+    fn tiny_lateral_spreads_take_the_scaled_path_and_keep_their_digits() {
+        // A needle along x (spread ~2^4) whose y and z spreads are 2^-k: below 2^-450 the
+        // weighted squares leave the range where unscaled Gram-Schmidt is safe (see SAFE), and
+        // the chunk is factored by scaled Householder QR instead; either way each moment
+        // matches exact integer arithmetic to 64 eps of its axes' spreads.
+        for (k, fast) in [(300, true), (430, true), (460, false), (500, false)] {
+            let shift = [10, k, k];
+            let (m, p) = cloud(700, 5, k as u64);
+            let (masses, positions) = to_floats(&m, &p, shift, 0.0);
+            let reference = block_center(&masses, &positions);
+            let routed = gram_schmidt_chunk(&masses, &positions, &reference).is_some();
+            assert_eq!(routed, fast, "k = {k}");
+            let body = MassProperties::point_masses(&masses, &positions).unwrap();
+            let exact = exact_second_moment(&m, &p, shift);
+            assert_columnwise(&body.second_moment(), &exact, &format!("k = {k}"));
+        }
+    }
+
+    #[test]
+    fn chunks_on_both_paths_merge_exactly_and_the_same_for_any_thread_count() {
+        // Three chunks and a bit; z is 0 in all but the second chunk, where it spreads over
+        // 2^-480 (weighted squares below the range of the unscaled path): that chunk alone is
+        // factored by scaled Householder QR, the others by Gram-Schmidt, and the factors are
+        // merged. Against exact integer arithmetic (z in units of 2^-480), each moment to 64 eps
+        // of its axes' spreads (S_zz and the products with z come from the second chunk only),
+        // and bit for bit the same on 1, 2 and 3 threads.
+        let shift = [10, 10, 480];
+        let n = 3 * CHUNK + 1000;
+        let mut ints = Ints(17);
+        let m: Vec<i64> = (0..n).map(|_| 5 + ints.next(3)).collect();
+        let p: Vec<[i64; 3]> = (0..n)
+            .map(|i| {
+                let z = if (CHUNK..2 * CHUNK).contains(&i) {
+                    ints.next(5)
+                } else {
+                    0
+                };
+                [ints.next(1 << 14), ints.next(1 << 12), z]
+            })
+            .collect();
+        let (masses, positions) = to_floats(&m, &p, shift, 0.0);
+        let reference = block_center(&masses, &positions);
+        assert_eq!(reference[2], 0.0);
+        let routes: Vec<bool> = masses
+            .chunks(CHUNK)
+            .zip(positions.chunks(CHUNK))
+            .map(|(m, r)| gram_schmidt_chunk(m, r, &reference).is_some())
+            .collect();
+        assert_eq!(routes, [true, false, true, true]);
+        let exact = exact_second_moment(&m, &p, shift);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| MassProperties::point_masses(&masses, &positions).unwrap())
+        };
+        let one = run(1);
+        assert_columnwise(&one.second_moment(), &exact, "mixed chunks");
+        for threads in [2, 3] {
+            let other = run(threads);
+            assert_eq!(other.mass.to_bits(), one.mass.to_bits());
+            for (a, b) in other.center_of_mass.iter().zip(one.center_of_mass.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits());
+            }
+            let (a, b) = (other.second_moment(), one.second_moment());
+            for (x, y) in a.iter().zip(b.iter()) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{threads} threads");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_points_are_named_first_to_last_across_blocks_and_chunks() {
+        let n = 3 * CHUNK;
+        let masses = vec![1.0; n];
+        let positions: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 0.5, -0.25]).collect();
+        let name = |masses: &[f64], positions: &[[f64; 3]]| match MassProperties::point_masses(
+            masses, positions,
+        ) {
+            Err(Error::NonFinite { name, .. } | Error::NonPositive { name, .. }) => name,
+            other => panic!("{:?}", other.map(|b| b.mass)),
+        };
+        let (mut m, mut p) = (masses.clone(), positions.clone());
+        p[300][2] = f64::NAN;
+        assert_eq!(name(&m, &p), "positions[300, 2]");
+        m[299] = -1.0;
+        assert_eq!(name(&m, &p), "masses[299]");
+        let (mut m, mut p) = (masses.clone(), positions.clone());
+        m[2 * CHUNK + 5] = 0.0;
+        p[CHUNK + 700][0] = f64::INFINITY;
+        assert_eq!(name(&m, &p), format!("positions[{}, 0]", CHUNK + 700));
+    }
 }
