@@ -271,6 +271,10 @@ fn rotate(v: &V3, s: X, r: &V3) -> V3 {
 /// A fixed-step method on a block of lanes: the scalar [`super::stepper::Stepper`]'s step,
 /// lane by lane.
 pub(crate) trait LaneStepper {
+    /// Whether the steps run through [`crate::simd::dispatch_wide`] (AVX-512's 32 registers
+    /// where the CPU has them) rather than [`crate::simd::dispatch`]: measured per method.
+    const WIDE: bool = false;
+
     /// The variables of the initial angular velocities and quaternions; by default themselves.
     #[inline(always)]
     fn vars(&self, w: V3, q: V4) -> Vars {
@@ -321,6 +325,10 @@ struct Rk4<const ATT: bool> {
 }
 
 impl<const ATT: bool> LaneStepper for Rk4<ATT> {
+    /// Measured on Zen 4: 1.3x faster per step (the state, the four slopes and the constants
+    /// fit in 32 registers, not in 16).
+    const WIDE: bool = true;
+
     /// Written as a loop over the lanes of the scalar step (`super::rk4`, `Moments::euler_rhs`,
     /// `quaternion_rate`) on arrays, which the compiler vectorises as a whole.
     #[inline(always)]
@@ -907,10 +915,17 @@ fn run_lanes<S: LaneStepper>(
                 let mut local = y;
                 let mut i = j;
                 while i < end {
-                    let (at, failed) = crate::simd::dispatch(
-                        #[inline(always)]
-                        || steps(&mut stepper, &mut local, i, end, h, live),
-                    );
+                    let (at, failed) = if S::WIDE {
+                        crate::simd::dispatch_wide(
+                            #[inline(always)]
+                            || steps(&mut stepper, &mut local, i, end, h, live),
+                        )
+                    } else {
+                        crate::simd::dispatch(
+                            #[inline(always)]
+                            || steps(&mut stepper, &mut local, i, end, h, live),
+                        )
+                    };
                     if failed != 0 {
                         let t_step = prev + at as f64 * h;
                         for (l, error) in errors.iter_mut().enumerate() {
