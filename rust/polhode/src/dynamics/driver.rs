@@ -826,6 +826,20 @@ pub(crate) fn start(
             value: 0.0,
         });
     }
+    normalised(state0)
+}
+
+/// The checks of [`start`] that depend on the initial state, for a caller that has made the
+/// others (the monitor, the method, the times, `max_steps`) once for many runs: the state
+/// checked finite, the quaternion non-zero and renormalised.
+pub(crate) fn start_state(state0: &State) -> Result<State> {
+    state0.check_finite("state0")?;
+    normalised(state0)
+}
+
+/// `state0` with its quaternion renormalised (in case it was built unchecked); an error if it
+/// is zero.
+fn normalised(state0: &State) -> Result<State> {
     let norm = state0.orientation.coords.norm();
     if norm == 0.0 {
         return Err(Error::InvalidArgument {

@@ -209,11 +209,11 @@ fn lane4(v: &V4, l: usize) -> Vector4<f64> {
     Vector4::new(v[0].lane(l), v[1].lane(l), v[2].lane(l), v[3].lane(l))
 }
 
-/// Per-lane vectors (`x[l]` to lane `l`), lanes past `x.len()` repeating lane 0.
-fn gather3(x: &[Vector3<f64>]) -> V3 {
+/// Per-lane vectors (`x(l)` to lane `l` for `l < n`), lanes past `n` repeating lane 0.
+fn gather3(n: usize, x: impl Fn(usize) -> Vector3<f64>) -> V3 {
     let mut v = [X::splat(0.0); 3];
     for l in 0..LANES {
-        let xl = x.get(l).unwrap_or(&x[0]);
+        let xl = x(if l < n { l } else { 0 });
         for i in 0..3 {
             v[i].set_lane(l, xl[i]);
         }
@@ -221,10 +221,10 @@ fn gather3(x: &[Vector3<f64>]) -> V3 {
     v
 }
 
-fn gather4(x: &[Vector4<f64>]) -> V4 {
+fn gather4(n: usize, x: impl Fn(usize) -> Vector4<f64>) -> V4 {
     let mut v = [X::splat(0.0); 4];
     for l in 0..LANES {
-        let xl = x.get(l).unwrap_or(&x[0]);
+        let xl = x(if l < n { l } else { 0 });
         for i in 0..4 {
             v[i].set_lane(l, xl[i]);
         }
@@ -756,9 +756,10 @@ pub(crate) type LaneOutputs = [Option<(Vector3<f64>, Option<UnitQuaternion<f64>>
 
 /// Integrates up to [`LANES`] bodies (`bodies[l]` from `states[l]`, each started by
 /// `driver::start`) to the output times, torque-free, with a method for which [`applies`]
-/// holds: body `l`'s numbers and result are those of [`super::integrate_body`] alone.
-/// `output(k, outputs)` receives every output time `times[k]` in order; an error from it stops
-/// the block (every lane not failed yet then returns it).
+/// holds: body `l`'s numbers and result (in entry `l`, the entries past the bodies `None`) are
+/// those of [`super::integrate_body`] alone. `output(k, outputs)` receives every output time
+/// `times[k]` in order; an error from it stops the block (every lane not failed yet then
+/// returns it).
 pub(crate) fn integrate_lanes(
     method: &Method,
     bodies: &[Moments],
@@ -766,19 +767,13 @@ pub(crate) fn integrate_lanes(
     times: &[f64],
     options: &Options,
     output: impl FnMut(usize, &LaneOutputs) -> Result<()>,
-) -> Vec<Result<Stats>> {
+) -> [Option<Result<Stats>>; LANES] {
     debug_assert!(!bodies.is_empty() && bodies.len() <= LANES && bodies.len() == states.len());
-    let per_lane =
-        |f: &dyn Fn(&Moments) -> Vector3<f64>| gather3(&bodies.iter().map(f).collect::<Vec<_>>());
-    let w0 = gather3(&states.iter().map(|s| s.omega).collect::<Vec<_>>());
-    let q0 = gather4(
-        &states
-            .iter()
-            .map(|s| s.orientation.coords)
-            .collect::<Vec<_>>(),
-    );
-    let y0 = (w0, q0);
     let n = bodies.len();
+    let per_lane = |f: &dyn Fn(&Moments) -> Vector3<f64>| gather3(n, |l| f(&bodies[l]));
+    let w0 = gather3(n, |l| states[l].omega);
+    let q0 = gather4(n, |l| states[l].orientation.coords);
+    let y0 = (w0, q0);
     let att = options.with_orientation;
     macro_rules! run {
         ($dt:expr, $stepper:expr) => {
@@ -891,12 +886,12 @@ fn run_lanes<S: LaneStepper>(
     times: &[f64],
     options: &Options,
     mut output: impl FnMut(usize, &LaneOutputs) -> Result<()>,
-) -> Vec<Result<Stats>> {
+) -> [Option<Result<Stats>>; LANES] {
     let total = match fixed_total(dt, times, &[], options) {
         Ok(total) => total,
-        Err(error) => return vec![Err(error); n],
+        Err(error) => return std::array::from_fn(|l| (l < n).then(|| Err(error.clone()))),
     };
-    let mut errors: Vec<Option<Error>> = vec![None; n];
+    let mut errors: [Option<Error>; LANES] = Default::default();
     let mut live: Mask = (1 << n) - 1;
     let mut y = stepper.vars(y0.0, y0.1);
     stepper.start(&y);
@@ -984,10 +979,10 @@ fn run_lanes<S: LaneStepper>(
         progress.finish(prev);
     }
     let steps_taken = total as u64;
-    errors
-        .into_iter()
-        .enumerate()
-        .map(|(l, error)| match (error, &run) {
+    let mut errors = errors.into_iter().enumerate();
+    std::array::from_fn(|_| {
+        let (l, error) = errors.next().expect("LANES errors");
+        (l < n).then(|| match (error, &run) {
             (Some(error), _) => Err(error),
             (None, Err(stop)) => {
                 debug_assert!(!all_failed);
@@ -999,5 +994,5 @@ fn run_lanes<S: LaneStepper>(
                 rhs_evaluations: stepper.evaluations(steps_taken, l),
             }),
         })
-        .collect()
+    })
 }
