@@ -29,10 +29,12 @@ use super::state::{Moments, State};
 use super::{Method, Options, Stats};
 use crate::{Error, Result};
 
-/// Bodies integrated together: one 256-bit vector (a multiple of 4). Measured: 8 lanes made
-/// the splitting 1.5x faster (two independent chains of rotations to overlap) and the midpoint
-/// rule 1.3x slower (every lane iterates as long as the slowest of 8), rk4 unchanged.
-pub(crate) const LANES: usize = 4;
+/// Bodies integrated together: two 256-bit vectors (a multiple of 4). Measured on Zen 4 (one
+/// thread, 1e5 bodies, per body-step) against 4 lanes: the splitting 33.6 vs 59.1 ns (two
+/// independent chains of dependent rotations to overlap), rk4 5.0 vs 6.9 ns (AVX-512's
+/// 512-bit vectors), the midpoint rule 20.8 vs 20.0 ns (each lane iterates as long as the
+/// slowest of its block: two chains of Newton iterations overlap, a few more iterations).
+pub(crate) const LANES: usize = 8;
 
 /// A set of lanes, bit `l` for lane `l`.
 type Mask = u32;
@@ -325,8 +327,8 @@ struct Rk4<const ATT: bool> {
 }
 
 impl<const ATT: bool> LaneStepper for Rk4<ATT> {
-    /// Measured on Zen 4: 1.3x faster per step (the state, the four slopes and the constants
-    /// fit in 32 registers, not in 16).
+    /// Measured on Zen 4: 1.3x faster per step at 4 lanes (the state, the four slopes and the
+    /// constants fit in 32 registers, not in 16), and 8 lanes are one 512-bit vector.
     const WIDE: bool = true;
 
     /// Written as a loop over the lanes of the scalar step (`super::rk4`, `Moments::euler_rhs`,
