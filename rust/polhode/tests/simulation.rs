@@ -586,3 +586,31 @@ fn a_lane_batch_reports_its_first_failing_body_as_alone() {
         }
     }
 }
+
+/// rk4 in a lane block with a body spinning about a principal axis far too fast for the step:
+/// its angular velocity stays exact (Euler's right-hand side is zero) while its quaternion
+/// overflows, an error of the orientation. The batch reports that body's error as alone, and
+/// the quaternions of the others as alone.
+#[test]
+fn a_lane_block_reports_an_orientation_that_blows_up_as_alone() {
+    let run = Simulation::new(Method::Rk4 { dt: 0.1 });
+    let t = [0.0, 0.5, 10.0];
+    let q0 = UnitQuaternion::from_euler_angles(0.3, 0.2, -0.1);
+    let (mut bodies, mut omega) = bodies();
+    bodies.push(Body::Moments(Vector3::new(1.0, 2.0, 3.0)));
+    omega.push(Vector3::new(0.0, 0.0, 1e3));
+    let spin = bodies.len() - 1;
+    let alone = simulate(&run, &bodies[spin..], &omega[spin..], &[q0], &t, None).unwrap_err();
+    assert!(
+        format!("{alone}").contains("orientation"),
+        "expected the orientation to blow up: {alone}"
+    );
+    let got = simulate(&run, &bodies, &omega, &[q0], &t, None).unwrap_err();
+    assert_eq!(format!("{got:?}"), format!("{:?}", alone.in_body(spin)));
+    let others = simulate(&run, &bodies[..spin], &omega[..spin], &[q0], &t, None).unwrap();
+    for i in 0..spin {
+        let one = simulate(&run, &bodies[i..=i], &omega[i..=i], &[q0], &t, None).unwrap();
+        let q = others.column("quaternion").unwrap();
+        assert_eq!(&q[i * 12..(i + 1) * 12], one.column("quaternion").unwrap());
+    }
+}

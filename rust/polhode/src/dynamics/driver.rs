@@ -441,7 +441,17 @@ pub(crate) fn unit_output(
     t: f64,
     q: &Vector4<f64>,
 ) -> Result<UnitQuaternion<f64>> {
-    let unit = q / q.norm();
+    checked_unit(fixed_step, t, q / q.norm())
+}
+
+/// The orientation output at `t` from `unit = q / |q|` (computed by the caller as
+/// [`unit_output`] does), checked finite.
+#[inline]
+pub(crate) fn checked_unit(
+    fixed_step: bool,
+    t: f64,
+    unit: Vector4<f64>,
+) -> Result<UnitQuaternion<f64>> {
     if !unit.iter().all(|c| c.is_finite()) {
         // The orientation can blow up while omega stays finite (a step far too large for the
         // rotation rate): an error, not NaN quaternions beside finite omega.

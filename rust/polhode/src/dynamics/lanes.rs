@@ -22,7 +22,7 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use nalgebra::{UnitQuaternion, Vector3, Vector4};
 
-use super::driver::{check_omega_output, fixed_total, segments, substeps, unit_output};
+use super::driver::{check_omega_output, checked_unit, fixed_total, segments, substeps};
 use super::midpoint;
 use super::monitor::{Monitor, Progress};
 use super::state::{Moments, State};
@@ -965,6 +965,9 @@ fn run_lanes<S: LaneStepper>(
         prev = t;
         let Some(k) = k else { return Ok(()) };
         let omega = stepper.omega(&y);
+        // `driver::unit_output`'s `q / |q|`, in every lane at once.
+        let n = norm4(&y.1);
+        let unit = [y.1[0] / n, y.1[1] / n, y.1[2] / n, y.1[3] / n];
         let mut outputs: LaneOutputs = [None; LANES];
         for (l, (out, error)) in outputs.iter_mut().zip(errors.iter_mut()).enumerate() {
             if live >> l & 1 == 0 {
@@ -973,7 +976,7 @@ fn run_lanes<S: LaneStepper>(
             let w = lane3(&omega, l);
             let checked = check_omega_output(true, times[k], &w).and_then(|()| {
                 if options.with_orientation {
-                    Ok(Some(unit_output(true, times[k], &lane4(&y.1, l))?))
+                    Ok(Some(checked_unit(true, times[k], lane4(&unit, l))?))
                 } else {
                     Ok(None)
                 }
