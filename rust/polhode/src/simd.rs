@@ -5,7 +5,9 @@
 //! through [`dispatch`]: once for the baseline and once with AVX2 enabled, and the AVX2 copy runs
 //! where `is_x86_feature_detected!` finds it. FMA is deliberately not enabled, and Rust never
 //! contracts `a * b + c` on its own, so both copies perform the same IEEE operations in the same
-//! order: a result does not depend on the CPU it was computed on.
+//! order: a result does not depend on the CPU it was computed on. [`dispatch_wide`] adds a third
+//! copy with AVX-512 (32 vector registers, 512-bit vectors), for the kernels measured faster
+//! with it.
 
 /// Runs `kernel`, compiled with AVX2 when the CPU supports it (checked once per call; the check
 /// is a cached load). The closure and every function it calls that should be vectorised must be

@@ -7,7 +7,8 @@
 //! lane (no FMA, see [`crate::simd`]). So each body's numbers are bit for bit those of
 //! [`super::integrate_body`] alone, whatever the other bodies of its block: the tests compare
 //! the two. The loops between two looks at the monitor run through [`crate::simd::dispatch`]
-//! (AVX2 where the CPU has it).
+//! (AVX2 where the CPU has it), rk4's through [`crate::simd::dispatch_wide`] (AVX-512 where the
+//! CPU has it; see [`LaneStepper::WIDE`]).
 //!
 //! What differs between lanes is handled per lane: the implicit midpoint rule iterates until
 //! every lane has met the scalar stopping rule, a converged lane keeping its value while the
