@@ -792,6 +792,9 @@ fn exact_body(
     })
 }
 
+/// A block of bodies integrated together: their indices, ascending, and how many there are.
+type Block = ([usize; lanes::LANES], usize);
+
 /// The blocks of at most [`lanes::LANES`] bodies integrated together, in the order of their
 /// indices: consecutive bodies, except for the splitting, whose bodies are grouped by their
 /// axis order (`axes(i)`; `None` for a body that fails before its run), which a block shares.
@@ -800,15 +803,25 @@ fn lane_blocks(
     method: &Method,
     parallel: bool,
     axes: impl Fn(usize) -> Option<[usize; 3]> + Sync,
-) -> Vec<Vec<usize>> {
-    let chunks = |indices: Vec<usize>| -> Vec<Vec<usize>> {
-        indices
-            .chunks(lanes::LANES)
-            .map(<[usize]>::to_vec)
-            .collect()
+) -> Vec<Block> {
+    let chunks = |indices: &mut dyn Iterator<Item = usize>, blocks: &mut Vec<Block>| {
+        let mut block: Block = ([0; lanes::LANES], 0);
+        for i in indices {
+            block.0[block.1] = i;
+            block.1 += 1;
+            if block.1 == lanes::LANES {
+                blocks.push(block);
+                block.1 = 0;
+            }
+        }
+        if block.1 > 0 {
+            blocks.push(block);
+        }
     };
+    let mut blocks = Vec::with_capacity(n.div_ceil(lanes::LANES));
     if !matches!(method, Method::Splitting { .. }) {
-        return chunks((0..n).collect());
+        chunks(&mut (0..n), &mut blocks);
+        return blocks;
     }
     let keys: Vec<Option<[usize; 3]>> = if parallel {
         (0..n).into_par_iter().map(&axes).collect()
@@ -822,10 +835,26 @@ fn lane_blocks(
             None => groups.push((key, vec![i])),
         }
     }
-    groups
-        .into_iter()
-        .flat_map(|(_, members)| chunks(members))
-        .collect()
+    for (_, members) in groups {
+        chunks(&mut members.into_iter(), &mut blocks);
+    }
+    blocks
+}
+
+/// The cost of each body, written by the body's block alone.
+#[derive(Clone, Copy)]
+struct StatsColumn(*mut Stats);
+// SAFETY: each body's entry is written by one block (see `StatsColumn::set`).
+unsafe impl Send for StatsColumn {}
+unsafe impl Sync for StatsColumn {}
+
+impl StatsColumn {
+    /// # Safety
+    /// `i` is in bounds and no other thread writes entry `i`.
+    unsafe fn set(self, i: usize, stats: Stats) {
+        // SAFETY: in bounds and unshared, by the caller's contract.
+        unsafe { *self.0.add(i) = stats };
+    }
 }
 
 /// Integrates N bodies from their initial angular velocities (body axes) and orientations to
@@ -979,35 +1008,50 @@ pub fn simulate(
         max_steps: run.max_steps,
         monitor,
     };
-    let results: Vec<Result<Stats>> = if n > 1
-        && rotors == 0
-        && run.torque.is_none()
-        && lanes::applies(&run.method, &lane_options)
-    {
+    let lane_path =
+        n > 1 && rotors == 0 && run.torque.is_none() && lanes::applies(&run.method, &lane_options);
+    let stats = if lane_path {
         // Torque-free fixed-step runs: blocks of bodies integrated in SIMD lanes, each body
-        // with the numbers it has alone.
+        // with the numbers it has alone. The settings shared by the bodies were checked above:
+        // each body's own checks remain, in the order of a run alone.
         let prepared = |i: usize| -> Result<(Prepared, State)> {
             let at = |len: usize| if len == 1 { 0 } else { i };
             let body = prepare(&bodies[at(bodies.len())], None)?;
             let state = initial_state(&body, &omega0[i], &orientation0[at(orientation0.len())])?;
-            let state = crate::dynamics::start(&run.method, &state, t, &lane_options)?;
-            Ok((body, state))
+            if let Some(monitor) = monitor {
+                monitor.check()?;
+            }
+            Ok((body, crate::dynamics::start_state(&state)?))
         };
-        let block = |members: &[usize]| -> Vec<(usize, Result<Stats>)> {
-            let mut done = Vec::with_capacity(members.len());
-            let mut lanes = Vec::with_capacity(lanes::LANES);
-            for &i in members {
+        let mut stats = vec![Stats::default(); n];
+        let stats_column = StatsColumn(stats.as_mut_ptr());
+        // Runs a block; returns the error of its first failing body by index, if any.
+        let block = |&(members, count): &Block| -> Option<(usize, Error)> {
+            let mut first: Option<(usize, Error)> = None;
+            let mut fail = |i: usize, error: Error| {
+                if first.as_ref().is_none_or(|(f, _)| i < *f) {
+                    first = Some((i, error));
+                }
+            };
+            // The bodies that start, in lanes 0..k.
+            let mut ready: [Option<(usize, Prepared, State)>; lanes::LANES] = Default::default();
+            let mut k = 0;
+            for &i in &members[..count] {
                 match prepared(i) {
-                    Ok((body, state)) => lanes.push((i, body, state)),
-                    Err(error) => done.push((i, Err(error))),
+                    Ok((body, state)) => {
+                        ready[k] = Some((i, body, state));
+                        k += 1;
+                    }
+                    Err(error) => fail(i, error),
                 }
             }
-            if lanes.is_empty() {
-                return done;
+            if k == 0 {
+                return first;
             }
-            let mut rows: Vec<Rows> = lanes
-                .iter()
-                .map(|(i, body, _)| {
+            let lane = |l: usize| ready[l.min(k - 1)].as_ref().expect("a body in lanes 0..k");
+            let mut rows: [Option<Rows>; lanes::LANES] = std::array::from_fn(|l| {
+                (l < k).then(|| {
+                    let (i, body, _) = lane(l);
                     // SAFETY: body i's ranges; every i is in one block, once.
                     unsafe { moments_column.rows(*i, 3) }
                         .copy_from_slice(body.moments.moments().as_slice());
@@ -1020,70 +1064,90 @@ pub fn simulate(
                         previous: None,
                     }
                 })
-                .collect();
+            });
             // A body's first output that overflows: its error, unless its run fails.
-            let mut pending: Vec<Option<Error>> = vec![None; lanes.len()];
-            let moments: Vec<Moments> = lanes.iter().map(|(_, body, _)| body.moments).collect();
-            let states: Vec<State> = lanes.iter().map(|(_, _, state)| *state).collect();
+            let mut pending: [Option<Error>; lanes::LANES] = Default::default();
+            let moments: [Moments; lanes::LANES] = std::array::from_fn(|l| lane(l).1.moments);
+            let states: [State; lanes::LANES] = std::array::from_fn(|l| lane(l).2);
             let output = |j: usize, outputs: &lanes::LaneOutputs| -> Result<()> {
                 if j % OUTPUT_LOOK_EVERY == OUTPUT_LOOK_EVERY - 1 {
                     if let Some(monitor) = monitor {
                         monitor.look()?;
                     }
                 }
-                let each = lanes.iter().zip(rows.iter_mut()).zip(pending.iter_mut());
-                for ((((_, body, _), rows), pending), out) in each.zip(outputs) {
-                    if let (Some((omega, q)), None) = (out, &pending) {
-                        let sample = Sample {
-                            body,
-                            omega,
-                            orientation: q.as_ref(),
-                            rotors: None,
-                        };
-                        // SAFETY: the body's rows, written by its lane alone.
-                        if let Err(error) = unsafe { rows.write(j, &sample) } {
-                            *pending = Some(error);
-                        }
+                for l in 0..k {
+                    if pending[l].is_some() {
+                        continue;
+                    }
+                    let (Some((omega, q)), Some(rows)) = (&outputs[l], &mut rows[l]) else {
+                        continue;
+                    };
+                    let sample = Sample {
+                        body: &lane(l).1,
+                        omega,
+                        orientation: q.as_ref(),
+                        rotors: None,
+                    };
+                    // SAFETY: the body's rows, written by its lane alone.
+                    if let Err(error) = unsafe { rows.write(j, &sample) } {
+                        pending[l] = Some(error);
                     }
                 }
                 Ok(())
             };
-            let ran =
-                lanes::integrate_lanes(&run.method, &moments, &states, t, &lane_options, output);
-            for (((i, _, _), result), pending) in lanes.iter().zip(ran).zip(pending) {
-                done.push((*i, result.and_then(|stats| pending.map_or(Ok(stats), Err))));
+            let mut ran = lanes::integrate_lanes(
+                &run.method,
+                &moments[..k],
+                &states[..k],
+                t,
+                &lane_options,
+                output,
+            );
+            for l in 0..k {
+                let i = lane(l).0;
+                let result = ran[l].take().expect("a result per lane");
+                match result.and_then(|stats| pending[l].take().map_or(Ok(stats), Err)) {
+                    // SAFETY: body i's entry, written by its block alone.
+                    Ok(stats) => unsafe { stats_column.set(i, stats) },
+                    Err(error) => fail(i, error),
+                }
             }
-            done
+            first
         };
-        let blocks = lane_blocks(n, &run.method, run.parallel, |i| {
-            prepared(i).ok().map(|(body, _)| body.moments.split_axes)
+        // The splitting's blocks share an axis order: only the moments decide it.
+        let shared_axes = (bodies.len() == 1)
+            .then(|| prepare(&bodies[0], None).ok().map(|b| b.moments.split_axes));
+        let blocks = lane_blocks(n, &run.method, run.parallel, |i| match shared_axes {
+            Some(axes) => axes,
+            None => prepare(&bodies[i], None)
+                .ok()
+                .map(|body| body.moments.split_axes),
         });
-        let ran: Vec<Vec<(usize, Result<Stats>)>> = if run.parallel {
-            blocks.par_iter().map(|b| block(b)).collect()
+        let first = if run.parallel {
+            blocks.par_iter().filter_map(block).min_by_key(|(i, _)| *i)
         } else {
-            blocks.iter().map(|b| block(b)).collect()
+            blocks.iter().filter_map(block).min_by_key(|(i, _)| *i)
         };
-        let mut results: Vec<Option<Result<Stats>>> = (0..n).map(|_| None).collect();
-        for (i, result) in ran.into_iter().flatten() {
-            results[i] = Some(result);
+        if let Some((i, error)) = first {
+            return Err(error.in_body(i));
         }
-        results
-            .into_iter()
-            .map(|r| r.expect("every body is in one block"))
-            .collect()
-    } else if run.parallel && n > 1 {
-        (0..n).into_par_iter().map(one).collect()
+        stats
     } else {
-        (0..n).map(one).collect()
-    };
-    let mut stats = Vec::with_capacity(n);
-    for (i, result) in results.into_iter().enumerate() {
-        match result {
-            Ok(s) => stats.push(s),
-            Err(error) if n > 1 => return Err(error.in_body(i)),
-            Err(error) => return Err(error),
+        let results: Vec<Result<Stats>> = if run.parallel && n > 1 {
+            (0..n).into_par_iter().map(one).collect()
+        } else {
+            (0..n).map(one).collect()
+        };
+        let mut stats = Vec::with_capacity(n);
+        for (i, result) in results.into_iter().enumerate() {
+            match result {
+                Ok(s) => stats.push(s),
+                Err(error) if n > 1 => return Err(error.in_body(i)),
+                Err(error) => return Err(error),
+            }
         }
-    }
+        stats
+    };
     Ok(Outputs {
         n,
         m,

@@ -425,7 +425,17 @@ pub(crate) fn unit_output(
     t: f64,
     q: &Vector4<f64>,
 ) -> Result<UnitQuaternion<f64>> {
-    let unit = q / q.norm();
+    checked_unit(fixed_step, t, q / q.norm())
+}
+
+/// The orientation output at `t` from `unit = q / |q|` (computed by the caller as
+/// [`unit_output`] does), checked finite.
+#[inline]
+pub(crate) fn checked_unit(
+    fixed_step: bool,
+    t: f64,
+    unit: Vector4<f64>,
+) -> Result<UnitQuaternion<f64>> {
     if !unit.iter().all(|c| c.is_finite()) {
         // The orientation can blow up while omega stays finite (a step far too large for the
         // rotation rate): an error, not NaN quaternions beside finite omega.
@@ -848,6 +858,20 @@ pub(crate) fn start(
             value: 0.0,
         });
     }
+    normalised(state0)
+}
+
+/// The checks of [`start`] that depend on the initial state, for a caller that has made the
+/// others (the monitor, the method, the times, `max_steps`) once for many runs: the state
+/// checked finite, the quaternion non-zero and renormalised.
+pub(crate) fn start_state(state0: &State) -> Result<State> {
+    state0.check_finite("state0")?;
+    normalised(state0)
+}
+
+/// `state0` with its quaternion renormalised (in case it was built unchecked); an error if it
+/// is zero.
+fn normalised(state0: &State) -> Result<State> {
     let norm = state0.orientation.coords.norm();
     if norm == 0.0 {
         return Err(Error::InvalidArgument {
