@@ -794,9 +794,10 @@ pub fn principal_batch_monitored(
 /// Tensors per Jacobi group: twelve, three AVX2 registers of four doubles (six SSE2 ones) per
 /// entry. A rotation is a chain of dependent square roots and divisions (tau, t, c) whose
 /// latency, not the arithmetic, bounds a group: with three independent registers side by side
-/// three chains overlap. With four, or with one AVX2 register, the group was slower (measured
-/// with a scratch bench, single thread: 4 lanes ~1.5x the time of 12; 8 and 16 in between; 24
-/// spills and runs ~3x slower).
+/// three chains overlap. Measured with a scratch bench (one thread, a chunk of 6144 tensors,
+/// random / rotated diag(1, 1, 2), ns per tensor): 4 lanes 127 / 84, 8 lanes 141 / 104 (LLVM
+/// leaves much of 4 and 8 lanes scalar), 16 lanes 85 / 74, 12 lanes 73 / 54; 24 spills and
+/// runs ~3x slower.
 const LANES: usize = 12;
 
 /// The tail of a chunk (fewer than [`LANES`] tensors) in groups of this many, then one by one.
