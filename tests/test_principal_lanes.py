@@ -71,6 +71,38 @@ def test_each_tensor_of_a_batch_equals_its_single_solve_bit_for_bit(rng, n):
     assert np.array_equal(shuffled.multiplicity, batch.multiplicity[order])
 
 
+@pytest.mark.parametrize(
+    "n",
+    [
+        12,  # one full group of 12 lanes
+        12 + 4 + 3,  # a group of 12, a tail group of 4, three alone
+        3 * 12 + 11,  # tail of 11: a group of 4 and seven alone
+        4096 + 12 * 2 + 9,  # over a chunk boundary (4096 = 341 * 12 + 4: a tail of 4 per chunk)
+    ],
+)
+def test_groups_of_twelve_and_their_tails_equal_single_solves_and_eigh(rng, n):
+    # The batch runs groups of 12 tensors side by side (then groups of 4, then tensors alone
+    # for the rest of each chunk of 4096). Lanes that converge after different numbers of
+    # sweeps share a group (the mix below: diagonal tensors need none, random ones four or
+    # five, symmetric tops two): each tensor's bits must still be those of its single solve,
+    # and its moments those of numpy.linalg.eigh to 20 eps ||A|| (both backward stable).
+    tensors = mixed_tensors(rng, n)
+    tensors = tensors[rng.permutation(n)]
+    batch = ph.principal(tensors)
+    step = 1 if n < 1000 else 7
+    for k in range(0, n, step):
+        single = ph.principal(tensors[k])
+        assert np.array_equal(bits(batch.moments[k]), bits(single.moments)), k
+        assert np.array_equal(bits(batch.axes[k]), bits(single.axes)), k
+        assert np.array_equal(batch.multiplicity[k], single.multiplicity), k
+    for k in list(range(0, n, step)) + list(range(n - 24, n)):
+        a = tensors[k]
+        w, _ = ref.principal_eigh(a)
+        scale = norm2(a)
+        assert np.abs(batch.moments[k] - w).max() <= 20 * EPS * scale, k
+        check_eigen(a, batch.moments[k], batch.axes[k], what=f"tensor {k} of {n}")
+
+
 def test_batch_of_mixed_tensors_is_backward_stable(rng):
     tensors = mixed_tensors(rng, 9 * 40)
     p = ph.principal(tensors)

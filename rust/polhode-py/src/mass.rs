@@ -2,8 +2,8 @@
 
 use numpy::ndarray::Array;
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2,
-    PyReadonlyArrayDyn, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
+    PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use polhode::dynamics::Monitor;
 use polhode::mass::SOLIDS;
@@ -374,47 +374,47 @@ pub fn principal<'py>(
             &data
         }
     };
-    let mut moments = vec![0.0; 3 * n];
-    let mut axes = vec![0.0; 9 * n];
-    let mut multiplicity = vec![0i64; 3 * n];
-    let long = n > 2 * polhode::eigen::BATCH_CHUNK;
-    let solved = watched(py, long, |monitor| {
-        polhode::eigen::principal_batch_monitored(
-            slice,
-            rtol,
-            &mut moments,
-            &mut axes,
-            &mut multiplicity,
-            monitor,
-        )
-        .map_err(|e| {
-            if single {
-                e.map_name(|name| name.replacen("inertia[0]", "inertia", 1))
-            } else {
-                e
-            }
-        })
-    });
-    if let Err(error) = solved {
-        // Returning the pages a stopped run wrote to the system takes ~0.1 s per GB: done on a
-        // thread of its own, so that Ctrl-C on a large batch raises at once.
-        std::thread::spawn(move || drop((moments, axes, multiplicity)));
-        return Err(error);
-    }
     let (moments_shape, axes_shape) = if single {
         (vec![3], vec![3, 3])
     } else {
         (vec![n, 3], vec![n, 3, 3])
     };
-    let to_py = |v: Vec<f64>, s: Vec<usize>| -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        Ok(Array::from_shape_vec(s, v)
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
-            .into_pyarray(py))
-    };
-    let m = Array::from_shape_vec(moments_shape.clone(), multiplicity)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
-        .into_pyarray(py);
-    Ok((to_py(moments, moments_shape)?, to_py(axes, axes_shape)?, m))
+    // The outputs are numpy's own zeroed arrays, written in place: numpy asks the kernel for
+    // huge pages for large arrays (madvise), so a batch of 1e6 tensors takes ~300 page faults
+    // where vectors of ours took ~29000 (on the 2-core VM those faults cost as much system time
+    // as the solve's own).
+    let moments = PyArrayDyn::<f64>::zeros(py, moments_shape.clone(), false);
+    let axes = PyArrayDyn::<f64>::zeros(py, axes_shape, false);
+    let multiplicity = PyArrayDyn::<i64>::zeros(py, moments_shape, false);
+    {
+        let mut moments_view = moments.readwrite();
+        let mut axes_view = axes.readwrite();
+        let mut multiplicity_view = multiplicity.readwrite();
+        let contiguous =
+            |e: numpy::AsSliceError| pyo3::exceptions::PyRuntimeError::new_err(e.to_string());
+        let moments_out = moments_view.as_slice_mut().map_err(contiguous)?;
+        let axes_out = axes_view.as_slice_mut().map_err(contiguous)?;
+        let multiplicity_out = multiplicity_view.as_slice_mut().map_err(contiguous)?;
+        let long = n > 2 * polhode::eigen::BATCH_CHUNK;
+        watched(py, long, |monitor| {
+            polhode::eigen::principal_batch_monitored(
+                slice,
+                rtol,
+                moments_out,
+                axes_out,
+                multiplicity_out,
+                monitor,
+            )
+            .map_err(|e| {
+                if single {
+                    e.map_name(|name| name.replacen("inertia[0]", "inertia", 1))
+                } else {
+                    e
+                }
+            })
+        })?;
+    }
+    Ok((moments, axes, multiplicity))
 }
 
 /// The analytic solids, `{name: ((parameter, width), ...)}` in the core's order: what

@@ -234,7 +234,19 @@ fn three<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
 /// `f(l)` for every lane.
 #[inline(always)]
 fn lanes<const L: usize>(f: impl FnMut(usize) -> f64) -> Lane<L> {
-    std::array::from_fn(f)
+    each(f)
+}
+
+/// `[f(0), f(1), ..., f(L - 1)]` with a plain loop: `std::array::from_fn` is not always inlined
+/// (it was not for 12 lanes), and out of line it runs without the dispatched instructions and
+/// with the lanes in memory.
+#[inline(always)]
+fn each<T: Copy + Default, const L: usize>(mut f: impl FnMut(usize) -> T) -> [T; L] {
+    let mut out = [T::default(); L];
+    for l in 0..L {
+        out[l] = f(l);
+    }
+    out
 }
 
 /// `if mask { yes } else { no }`, lane by lane.
@@ -257,16 +269,16 @@ fn pow2_lanes<const L: usize>(k: &[i64; L]) -> Lane<L> {
 /// The two powers of two whose product [`ldexp`] multiplies by, lane by lane.
 #[inline(always)]
 fn ldexp_factors<const L: usize>(k: &[i64; L]) -> (Lane<L>, Lane<L>) {
-    let k: [i64; L] = std::array::from_fn(|l| k[l].clamp(-2044, 2046));
-    let half: [i64; L] = std::array::from_fn(|l| k[l] / 2);
-    let rest: [i64; L] = std::array::from_fn(|l| k[l] - half[l]);
+    let k: [i64; L] = each(|l| k[l].clamp(-2044, 2046));
+    let half: [i64; L] = each(|l| k[l] / 2);
+    let rest: [i64; L] = each(|l| k[l] - half[l]);
     (pow2_lanes(&half), pow2_lanes(&rest))
 }
 
 /// [`exponent`] lane by lane, for finite `x >= 0`.
 #[inline(always)]
 fn exponent_lanes<const L: usize>(x: &Lane<L>) -> [i64; L] {
-    std::array::from_fn(|l| {
+    each(|l| {
         let subnormal = x[l] < f64::MIN_POSITIVE;
         // Subnormals scaled into the normal range first (exactly).
         let y = if subnormal { x[l] * pow2(64) } else { x[l] };
@@ -393,7 +405,7 @@ impl<const L: usize> Lanes<L> {
             }
         }
         let k = exponent_lanes(&largest);
-        let minus: [i64; L] = std::array::from_fn(|l| -k[l]);
+        let minus: [i64; L] = each(|l| -k[l]);
         let (f1, f2) = ldexp_factors(&minus);
         for row in &mut m {
             for x in row {
@@ -461,7 +473,7 @@ impl<const L: usize> Lanes<L> {
         let (p, q, r) = (P, Q, R);
         let a = &mut self.a;
         let apq = a[p][q];
-        let active: [bool; L] = std::array::from_fn(|l| apq[l].abs() > negligible);
+        let active: [bool; L] = each(|l| apq[l].abs() > negligible);
         // t = tan(theta) = sign(tau) / (|tau| + sqrt(1 + tau^2)) with tau = d / e,
         // multiplied through by |e|: one division fewer on the critical path. Entries
         // are <= 1 after scaling, so d^2 + e^2 cannot overflow, and |e| > eps/8 keeps it
@@ -519,7 +531,7 @@ fn canonical_lanes<const L: usize>(
     let mut m = values;
     let mut col = three(|c| [vectors[0][c], vectors[1][c], vectors[2][c]]);
     for (i, j) in [(0, 1), (1, 2), (0, 1)] {
-        let swap: [bool; L] = std::array::from_fn(|l| m[j][l] < m[i][l]);
+        let swap: [bool; L] = each(|l| m[j][l] < m[i][l]);
         let (mi, mj) = (m[i], m[j]);
         m[i] = select(&swap, &mj, &mi);
         m[j] = select(&swap, &mi, &mj);
@@ -529,23 +541,29 @@ fn canonical_lanes<const L: usize>(
             col[j][r] = select(&swap, &ci, &cj);
         }
     }
-    let low: [bool; L] = std::array::from_fn(|l| m[1][l] - m[0][l] <= tolerance[l]);
-    let high: [bool; L] = std::array::from_fn(|l| m[2][l] - m[1][l] <= tolerance[l]);
+    let low: [bool; L] = each(|l| m[1][l] - m[0][l] <= tolerance[l]);
+    let high: [bool; L] = each(|l| m[2][l] - m[1][l] <= tolerance[l]);
 
     // Distinct moments: Gram-Schmidt once (the accumulated rotations leave columns orthogonal
-    // only to a few eps per rotation).
-    let a0 = unit(signed(col[0]));
-    let dot: Lane<L> =
-        lanes(|l| a0[0][l] * col[1][0][l] + a0[1][l] * col[1][1][l] + a0[2][l] * col[1][2][l]);
-    let a1 = unit(signed(three(|r| {
-        lanes(|l| col[1][r][l] - a0[r][l] * dot[l])
-    })));
-    let a2 = cross(&a0, &a1);
-    let mut axes = [a0, a1, a2];
+    // only to a few eps per rotation). Skipped when no lane has distinct moments (every lane's
+    // axes are then replaced below; a batch of symmetric tops saves the work).
+    let distinct = (0..L).any(|l| !low[l] && !high[l]);
+    let mut axes = if distinct {
+        let a0 = unit(signed(col[0]));
+        let dot: Lane<L> =
+            lanes(|l| a0[0][l] * col[1][0][l] + a0[1][l] * col[1][1][l] + a0[2][l] * col[1][2][l]);
+        let a1 = unit(signed(three(|r| {
+            lanes(|l| col[1][r][l] - a0[r][l] * dot[l])
+        })));
+        let a2 = cross(&a0, &a1);
+        [a0, a1, a2]
+    } else {
+        col
+    };
     let mut moments = m;
     let mut multiplicity = [[1u8; L]; 3];
 
-    let pair: [bool; L] = std::array::from_fn(|l| low[l] != high[l]);
+    let pair: [bool; L] = each(|l| low[l] != high[l]);
     if pair.iter().any(|&p| p) {
         // A symmetric body: one unique axis `u` and a plane of equal moments.
         let unique = three(|r| select(&low, &col[2][r], &col[0][r]));
@@ -553,10 +571,10 @@ fn canonical_lanes<const L: usize>(
         // In the plane: the projection of the body axis most perpendicular to `u` (the first
         // such axis on a tie), then the axis that completes a right-handed frame.
         let size = three(|k| lanes::<L>(|l| u[k][l].abs()));
-        let is1: [bool; L] = std::array::from_fn(|l| size[1][l] < size[0][l]);
+        let is1: [bool; L] = each(|l| size[1][l] < size[0][l]);
         let smallest = select(&is1, &size[1], &size[0]);
-        let is2: [bool; L] = std::array::from_fn(|l| size[2][l] < smallest[l]);
-        let j: [usize; L] = std::array::from_fn(|l| if is2[l] { 2 } else { usize::from(is1[l]) });
+        let is2: [bool; L] = each(|l| size[2][l] < smallest[l]);
+        let j: [usize; L] = each(|l| if is2[l] { 2 } else { usize::from(is1[l]) });
         let uj = select(&is2, &u[2], &select(&is1, &u[1], &u[0]));
         let p1 = three(|k| {
             lanes::<L>(|l| {
@@ -600,7 +618,7 @@ fn canonical_lanes<const L: usize>(
         }
     }
     // A spherical body: the moments' mean and the body's own axes.
-    let sphere: [bool; L] = std::array::from_fn(|l| low[l] && high[l]);
+    let sphere: [bool; L] = each(|l| low[l] && high[l]);
     if sphere.iter().any(|&s| s) {
         let mean: Lane<L> = lanes(|l| (m[0][l] + m[1][l] + m[2][l]) / 3.0);
         for k in 0..3 {
@@ -773,9 +791,17 @@ pub fn principal_batch_monitored(
     outcomes.into_iter().collect()
 }
 
-/// Tensors per Jacobi group: independent rotations side by side fill the SIMD lanes (one AVX2
-/// register of four doubles; with eight the state of a group spills from the registers).
-const LANES: usize = 4;
+/// Tensors per Jacobi group: twelve, three AVX2 registers of four doubles (six SSE2 ones) per
+/// entry. A rotation is a chain of dependent square roots and divisions (tau, t, c) whose
+/// latency, not the arithmetic, bounds a group: with three independent registers side by side
+/// three chains overlap. Measured with a scratch bench (one thread, a chunk of 6144 tensors,
+/// random / rotated diag(1, 1, 2), ns per tensor): 4 lanes 127 / 84, 8 lanes 141 / 104 (LLVM
+/// leaves much of 4 and 8 lanes scalar), 16 lanes 85 / 74, 12 lanes 73 / 54; 24 spills and
+/// runs ~3x slower.
+const LANES: usize = 12;
+
+/// The tail of a chunk (fewer than [`LANES`] tensors) in groups of this many, then one by one.
+const TAIL_LANES: usize = 4;
 
 /// One chunk of the batch, with the widest vector instructions the CPU has
 /// ([`crate::simd::dispatch`]: the same IEEE operations either way, so results do not depend on
@@ -788,41 +814,47 @@ fn solve_chunk(
     rtol: f64,
     offset: usize,
 ) -> Result<()> {
-    crate::simd::dispatch(
+    let tensors = t.as_chunks::<9>().0;
+    // Each group size in a function of its own: the kernel's registers are then allocated for
+    // its loop alone (inlined together, the 12-lane loop ran ~1.5x slower).
+    let done = crate::simd::dispatch(
         #[inline(always)]
-        || solve_chunk_generic(t, m, x, u, rtol, offset),
-    )
+        || solve_groups::<LANES>(tensors, 0, m, x, u, rtol, offset),
+    )?;
+    let done = crate::simd::dispatch(
+        #[inline(always)]
+        || solve_groups::<TAIL_LANES>(&tensors[done..], done, m, x, u, rtol, offset),
+    )?;
+    for (l, tensor) in tensors[done..].iter().enumerate() {
+        solve_one(tensor, done + l, m, x, u, rtol, offset)?;
+    }
+    Ok(())
 }
 
+/// Solves the tensors of `tensors` in groups of `L` (the first is tensor `first` of the chunk)
+/// and returns the index of the first tensor left (`first` plus a multiple of `L`), or the
+/// first error.
 #[inline(always)]
-fn solve_chunk_generic(
-    t: &[f64],
+fn solve_groups<const L: usize>(
+    tensors: &[[f64; 9]],
+    first: usize,
     m: &mut [f64],
     x: &mut [f64],
     u: &mut [i64],
     rtol: f64,
     offset: usize,
-) -> Result<()> {
-    let (groups, rest) = t.as_chunks::<{ 9 * LANES }>();
+) -> Result<usize> {
+    let (groups, _) = tensors.as_chunks::<L>();
     for (g, group) in groups.iter().enumerate() {
-        let first = g * LANES;
-        let tensors: &[[f64; 9]; LANES] = group
-            .as_chunks::<9>()
-            .0
-            .try_into()
-            .unwrap_or_else(|_| unreachable!());
-        if !solve_group::<LANES>(tensors, first, m, x, u, rtol) {
+        let start = first + g * L;
+        if !solve_group::<L>(group, start, m, x, u, rtol) {
             // A bad tensor in the group: one by one, in order, for the first error.
-            for (l, tensor) in tensors.iter().enumerate() {
-                solve_one(tensor, first + l, m, x, u, rtol, offset)?;
+            for (l, tensor) in group.iter().enumerate() {
+                solve_one(tensor, start + l, m, x, u, rtol, offset)?;
             }
         }
     }
-    let first = groups.len() * LANES;
-    for (l, tensor) in rest.as_chunks::<9>().0.iter().enumerate() {
-        solve_one(tensor, first + l, m, x, u, rtol, offset)?;
-    }
-    Ok(())
+    Ok(first + groups.len() * L)
 }
 
 /// Tensor `i` of the chunk on its own, or its error (as body `offset + i`).
