@@ -490,32 +490,40 @@ def simulate(
         raise TypeError(f"Expected `method` to be a string, got {type(method).__name__}.")
     if progress is not False:
         _check_progress(progress)
-    t0 = as_scalar("t0", t0)
+    # A float or an int needs no conversion (what as_scalar and as_integer return for one):
+    # a small call skips those calls for the defaults.
+    if type(t0) is not float:
+        t0 = as_scalar("t0", t0)
     times = _as_float_array("t", t)
     if times.shape == (1,) and np.ndim(t) == 0:
         times = np.array([t0, float(times[0])])
     omega = _as_float_array("omega0", omega0)
     rotors = None if rotors is None else as_rotors(rotors)
     orientation = bool(orientation)
-    _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
+    # One body at up to 10^5 output times (at most 14 numbers each) fits in _ALWAYS_FITS.
+    if rotors is not None or omega.ndim != 1 or times.size > 100_000:
+        _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
     callback, bar = (None, None) if progress is False else _progress(progress)
     try:
+        # By position, in the order of the core's signature (body, omega0, t, orientation0,
+        # t0, method, dt, order, rtol, atol, torque, orientation, max_steps, progress,
+        # rotors): no keyword names to match.
         outputs = _core.simulate(
             _body(body),
             omega,
             times,
-            orientation0=None if orientation0 is None else _orientation0(orientation0),
-            t0=t0,
-            method=method,
-            dt=None if dt is None else as_scalar("dt", dt),
-            order=as_integer("order", order),
-            rtol=as_scalar("rtol", rtol),
-            atol=None if atol is None else as_scalar("atol", atol),
-            torque=None if torque is None else as_torque(torque),
-            orientation=orientation,
-            max_steps=as_integer("max_steps", max_steps),
-            progress=callback,
-            rotors=rotors,
+            None if orientation0 is None else _orientation0(orientation0),
+            t0,
+            method,
+            None if dt is None else as_scalar("dt", dt),
+            order if type(order) is int else as_integer("order", order),
+            rtol if type(rtol) is float else as_scalar("rtol", rtol),
+            None if atol is None else as_scalar("atol", atol),
+            None if torque is None else as_torque(torque),
+            orientation,
+            max_steps if type(max_steps) is int else as_integer("max_steps", max_steps),
+            callback,
+            rotors,
         )
     finally:
         if bar is not None:

@@ -12,11 +12,13 @@ use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::simulation::{
-    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Simulation,
+    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Quantity,
+    Simulation,
 };
 use pyo3::exceptions::PyTypeError;
+use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyString};
 
 use crate::convert::bad_shape;
 use crate::errors::{argument_error, CoreError};
@@ -155,7 +157,7 @@ fn orientations(
 /// work to another thread. A batch runs on the rayon pool (see [`run_on_pool`]).
 #[pyfunction]
 #[pyo3(signature = (
-    body, omega0, t, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
+    body, omega0, t, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
     rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None,
     rotors=None
 ))]
@@ -328,6 +330,20 @@ pub fn check_motion(
     Ok(())
 }
 
+/// A quantity's name as a Python string made once per process (`intern!`): a small call
+/// then neither builds nor hashes its keys anew, nor does the Python layer reading them.
+fn quantity_key<'py>(py: Python<'py>, quantity: Quantity) -> Bound<'py, PyString> {
+    match quantity {
+        Quantity::Omega => intern!(py, "omega"),
+        Quantity::Quaternion => intern!(py, "quaternion"),
+        Quantity::AngularMomentumSpace => intern!(py, "angular_momentum_space"),
+        Quantity::AngularMomentumBody => intern!(py, "angular_momentum_body"),
+        Quantity::Energy => intern!(py, "energy"),
+        Quantity::RotorRates => intern!(py, "rotor_rates"),
+    }
+    .clone()
+}
+
 /// The outputs by name; a single body drops the leading N.
 fn to_dict<'py>(
     py: Python<'py>,
@@ -351,14 +367,14 @@ fn to_dict<'py>(
     for (quantity, data) in outputs.columns {
         let mut shape = vec![m];
         shape.extend(quantity.shape(outputs.rotors));
-        dict.set_item(quantity.name(), array(shape, data)?)?;
+        dict.set_item(quantity_key(py, quantity), array(shape, data)?)?;
     }
-    dict.set_item("moments", array(vec![3], outputs.moments)?)?;
+    dict.set_item(intern!(py, "moments"), array(vec![3], outputs.moments)?)?;
     type Count = fn(&polhode::dynamics::Stats) -> u64;
-    let counts: [(&str, Count); 3] = [
-        ("steps", |s| s.steps),
-        ("rejected_steps", |s| s.rejected_steps),
-        ("evaluations", |s| s.rhs_evaluations),
+    let counts: [(&Bound<'py, PyString>, Count); 3] = [
+        (intern!(py, "steps"), |s| s.steps),
+        (intern!(py, "rejected_steps"), |s| s.rejected_steps),
+        (intern!(py, "evaluations"), |s| s.rhs_evaluations),
     ];
     for (name, get) in counts {
         let values: Vec<u64> = outputs.stats.iter().map(get).collect();
@@ -368,7 +384,7 @@ fn to_dict<'py>(
             dict.set_item(name, values.into_pyarray(py))?;
         }
     }
-    dict.set_item("method", method)?;
+    dict.set_item(intern!(py, "method"), method)?;
     Ok(dict)
 }
 
@@ -398,13 +414,20 @@ pub fn free_rotation<'py>(
         #[allow(unreachable_patterns)]
         _ => ("unknown", None),
     };
-    out.set_item("regime", regime)?;
-    out.set_item("axis", axis)?;
-    out.set_item("period", free.period())?;
-    out.set_item("energy", free.energy())?;
-    out.set_item("angular_momentum_norm", free.angular_momentum_norm())?;
-    out.set_item("precession_rate_space", free.precession_rate_space())?;
-    out.set_item("nutation_angle", free.nutation_angle())?;
+    // Keys made once per process (`intern!`): neither built nor hashed anew per call.
+    out.set_item(intern!(py, "regime"), regime)?;
+    out.set_item(intern!(py, "axis"), axis)?;
+    out.set_item(intern!(py, "period"), free.period())?;
+    out.set_item(intern!(py, "energy"), free.energy())?;
+    out.set_item(
+        intern!(py, "angular_momentum_norm"),
+        free.angular_momentum_norm(),
+    )?;
+    out.set_item(
+        intern!(py, "precession_rate_space"),
+        free.precession_rate_space(),
+    )?;
+    out.set_item(intern!(py, "nutation_angle"), free.nutation_angle())?;
     Ok(out)
 }
 
