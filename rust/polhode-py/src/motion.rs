@@ -4,6 +4,7 @@
 //! lives in `polhode::simulation`; here are only the shapes of the arguments, the method's
 //! name, the GIL, Ctrl-C and progress.
 
+use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -30,12 +31,14 @@ use crate::watch::{run_on_pool, Watch};
 /// A float64 array of any shape, as (shape, row-major numbers). A contiguous array is copied
 /// as one slice (iterating a dynamic-dimensional view costs ~20 ns a number: 0.2 s of output
 /// times that Ctrl-C could not interrupt for 1e7).
-fn dense(a: &PyReadonlyArrayDyn<'_, f64>) -> (Vec<usize>, Vec<f64>) {
+/// A contiguous array is borrowed as it is, not copied (each copy an allocation of a small
+/// call).
+fn dense<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> (&'a [usize], Cow<'a, [f64]>) {
     let data = match a.as_slice() {
-        Ok(slice) => slice.to_vec(),
-        Err(_) => a.as_array().iter().copied().collect(),
+        Ok(slice) => Cow::Borrowed(slice),
+        Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
     };
-    (a.shape().to_vec(), data)
+    (a.shape(), data)
 }
 
 fn rows3(data: &[f64]) -> Vec<Vector3<f64>> {
@@ -75,7 +78,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
     }
     let array: PyReadonlyArrayDyn<'_, f64> = body.extract()?;
     let (shape, data) = dense(&array);
-    match (n, shape.as_slice()) {
+    match (n, shape) {
         (_, [3]) => Ok(vec![Body::Moments(Vector3::from_column_slice(&data))]),
         (None, [3, 3]) => Ok(vec![Body::Inertia(Matrix3::from_row_slice(&data))]),
         (Some(n), [rows, 3]) if *rows == n => {
@@ -85,7 +88,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
             "body",
             "(3,) principal moments or a (3, 3) tensor, since `omega0` has shape (3,) (one body; \
              for N bodies give `omega0` of shape (N, 3))",
-            &shape,
+            shape,
         )),
         (Some(n), _) => Err(bad_shape(
             "body",
@@ -93,7 +96,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
                 "({n}, 3) principal moments to match `omega0`, or (3,) moments shared by all \
                  (a (3, 3) tensor is one body: give `omega0` of shape (3,))"
             ),
-            &shape,
+            shape,
         )),
     }
 }
@@ -110,7 +113,7 @@ fn orientations(
     let convert = |k: usize, item: polhode::Result<UnitQuaternion<f64>>| {
         item.map_err(|e| CoreError(if k > 0 { e.in_body(k) } else { e }).into())
     };
-    match shape.as_slice() {
+    match shape {
         [4] | [_, 4] => data
             .chunks_exact(4)
             .enumerate()
@@ -134,7 +137,7 @@ fn orientations(
         _ => Err(bad_shape(
             "orientation0",
             "(4,) an (x, y, z, w) quaternion, (3, 3) a rotation matrix, or N of them",
-            &shape,
+            shape,
         )),
     }
 }
@@ -181,17 +184,17 @@ pub fn simulate<'py>(
     rotors: Option<Vec<Bound<'py, PyAny>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (omega_shape, omega_data) = dense(&omega0);
-    let n = match omega_shape.as_slice() {
+    let n = match omega_shape {
         [3] => None,
         [n, 3] => Some(*n),
-        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", &omega_shape)),
+        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
     };
     let bodies = bodies(body, n)?;
     let omega0 = rows3(&omega_data);
     let orientation0 = orientations(orientation0)?;
     let (t_shape, times) = dense(&t);
     if t_shape.len() != 1 {
-        return Err(bad_shape("t", "(M,)", &t_shape));
+        return Err(bad_shape("t", "(M,)", t_shape));
     }
     let raised: Raised = Arc::new(Mutex::new(None));
     let spec = torque
@@ -291,8 +294,8 @@ pub fn check_motion(
     rotors: Option<Vec<Bound<'_, PyAny>>>,
 ) -> PyResult<()> {
     let (omega_shape, omega_data) = dense(&omega0);
-    if omega_shape.as_slice() != [3] {
-        return Err(bad_shape("omega0", "(3,)", &omega_shape));
+    if omega_shape != [3] {
+        return Err(bad_shape("omega0", "(3,)", omega_shape));
     }
     let bodies = bodies(body, None)?;
     let raised: Raised = Arc::new(Mutex::new(None));
