@@ -148,3 +148,30 @@ def test_order3_is_numpys_stable_argsort():
 def test_linearized_axis_is_numpys_argmax(omega0):
     a = ph.analyze([1.0, 2.0, 3.0], omega0)
     assert a.linearized["axis"] == int(np.argmax(np.abs(omega0)))
+
+
+def test_simulate_skips_the_memory_check_only_for_one_body_at_few_times(monkeypatch):
+    # simulate skips _check_fits for one body without rotors at up to 10^5 output times: all
+    # of those outputs fit in _ALWAYS_FITS, which _check_fits would not check either.
+    assert 100_000 * 14 * 8 <= simulation._ALWAYS_FITS
+    calls = []
+    real = simulation._check_fits
+
+    def check_fits(*args):
+        calls.append(args)
+        return real(*args)
+
+    monkeypatch.setattr(simulation, "_check_fits", check_fits)
+    moments, omega0 = [1.0, 2.0, 3.0], [0.01, 1.0, 0.01]
+    ph.simulate(moments, omega0, np.linspace(0.0, 1.0, 100_000), orientation=False)
+    assert calls == []
+    ph.simulate(moments, [omega0], [0.0, 1.0])  # a batch (of one)
+    assert len(calls) == 1
+    ph.simulate(moments, omega0, np.linspace(0.0, 1.0, 100_001), orientation=False)
+    assert len(calls) == 2
+    ph.simulate(moments, omega0, [0.0, 0.1], rotors=[ph.rotors.SphericalDamper(0.2, 0.1)])
+    assert len(calls) == 3
+    # Past the skip, a run that does not fit raises MemoryError before the work.
+    monkeypatch.setattr(simulation, "_available_memory", lambda: 1)
+    with pytest.raises(MemoryError, match="bytes"):
+        ph.simulate(moments, np.zeros((600_000, 3)), [0.0, 1.0])
