@@ -278,9 +278,12 @@ _FIELDS = tuple(Trajectory.__dataclass_fields__)
 
 def _body(body: Any) -> Any:
     """What the core takes for ``body``: the core of a Body, a list of them, or numbers."""
+    if type(body) is np.ndarray:
+        # Numbers (neither a Body nor a list): the two checks below skipped, in a small call.
+        return _as_float_array("body", body)
     if isinstance(body, Body):
         return body._core
-    if isinstance(body, list | tuple) and body and all(isinstance(b, Body) for b in body):
+    if isinstance(body, (list, tuple)) and body and all(isinstance(b, Body) for b in body):
         return [b._core for b in body]
     return _as_float_array("body", body)
 
