@@ -8,7 +8,7 @@ use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-use numpy::ndarray::ArrayD;
+use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
 use polhode::exact::{FreeRotation, Regime};
@@ -363,9 +363,18 @@ fn to_dict<'py>(
         shape
     };
     let array = |shape: Vec<usize>, data: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
-        ArrayD::from_shape_vec(lead(shape), data)
-            .map(|a| a.into_pyarray(py).into_any())
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+        let shape = lead(shape);
+        // Fixed dimensions where there are up to three (every output but a batch's rotor
+        // rates): the same array, without the dynamic dimension's work per array.
+        match *shape.as_slice() {
+            [a] => Array1::from_shape_vec(a, data).map(|a| a.into_pyarray(py).into_any()),
+            [a, b] => Array2::from_shape_vec((a, b), data).map(|a| a.into_pyarray(py).into_any()),
+            [a, b, c] => {
+                Array3::from_shape_vec((a, b, c), data).map(|a| a.into_pyarray(py).into_any())
+            }
+            _ => ArrayD::from_shape_vec(shape, data).map(|a| a.into_pyarray(py).into_any()),
+        }
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
     };
     for (quantity, data) in outputs.columns {
         let mut shape = vec![m];
