@@ -254,28 +254,6 @@ def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float
 OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
 
 
-def _trajectory(
-    times: NDArray[np.float64], outputs: dict[str, Any], stats: dict[str, Any]
-) -> Trajectory:
-    """The Trajectory of the core's outputs by name (each a field; None for those it did not
-    compute).
-
-    The same object as ``Trajectory(t=times, stats=stats, **fields)``, its fields set in one
-    step: a frozen dataclass's ``__init__`` sets each through ``object.__setattr__``, a tenth
-    of a small call."""
-    trajectory = object.__new__(Trajectory)
-    fields = dict.fromkeys(_FIELDS)  # every field, in order, None until set
-    fields.update(outputs)
-    fields["t"] = times
-    fields["stats"] = stats
-    trajectory.__dict__.update(fields)
-    return trajectory
-
-
-#: Every field of Trajectory, in order.
-_FIELDS = tuple(Trajectory.__dataclass_fields__)
-
-
 def _body(body: Any) -> Any:
     """What the core takes for ``body``: the core of a Body, a list of them, or numbers."""
     if type(body) is np.ndarray:
@@ -531,12 +509,10 @@ def simulate(
     finally:
         if bar is not None:
             bar.close()
-    pop = outputs.pop
-    stats = {
-        "method": pop("method"),
-        "steps": pop("steps"),
-        "rejected_steps": pop("rejected_steps"),
-        "evaluations": pop("evaluations"),
-        "wall_time": time.perf_counter() - started,
-    }
-    return _trajectory(times, outputs, stats)
+    # The core returns every field by name, in order (``t`` is ``times``; ``stats`` lacks only
+    # the wall time): the same object as ``Trajectory(**outputs)``, its fields set in one step
+    # (a frozen dataclass's ``__init__`` sets each through ``object.__setattr__``).
+    outputs["stats"]["wall_time"] = time.perf_counter() - started
+    trajectory = object.__new__(Trajectory)
+    trajectory.__dict__.update(outputs)
+    return trajectory

@@ -143,10 +143,11 @@ fn orientations(
 }
 
 /// Integrates one body (`omega0` of shape (3,)) or N bodies (`omega0` (N, 3)): see
-/// `polhode.simulate`. Returns a dict of the outputs by name, a single body without the
-/// leading N: every quantity of `polhode::simulation::Quantity` present (those needing the
-/// orientation only with `orientation=True`, `rotor_rates` only with rotors), `moments`,
-/// `steps`, `rejected_steps`, `evaluations` and `method`. `rotors` is a sequence of
+/// `polhode.simulate`. Returns the fields of a `Trajectory` by name, in their order: `t` (the
+/// array `t` itself), every quantity of `polhode::simulation::Quantity` (a single body without
+/// the leading N; None for those not computed: those needing the orientation without
+/// `orientation=True`, `rotor_rates` without rotors), `moments`, and `stats`, a dict of
+/// `method`, `steps`, `rejected_steps` and `evaluations`. `rotors` is a sequence of
 /// `polhode.rotors` rotors, shared by every body.
 ///
 /// `progress`, if given, is called with the fraction of the work done (in [0, 1],
@@ -278,7 +279,7 @@ pub fn simulate<'py>(
     if let Some(progress) = &watch.progress {
         progress.call1(py, (1.0,))?;
     }
-    to_dict(py, outputs, n.is_none(), run.method.name())
+    to_dict(py, outputs, n.is_none(), run.method.name(), t.as_any())
 }
 
 /// Checks one body, its initial angular velocity and its rotors as `simulate` checks them (the
@@ -347,14 +348,18 @@ fn quantity_key<'py>(py: Python<'py>, quantity: Quantity) -> Bound<'py, PyString
     .clone()
 }
 
-/// The outputs by name; a single body drops the leading N.
+/// The fields of a `Trajectory` by name, in their order (what `polhode.simulate` sets in one
+/// step): `t`, the outputs (None for those not computed; a single body drops the leading N),
+/// `moments` and `stats`.
 fn to_dict<'py>(
     py: Python<'py>,
     outputs: Outputs,
     single: bool,
     method: &str,
+    t: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
+    dict.set_item(intern!(py, "t"), t)?;
     let (n, m) = (outputs.n, outputs.m);
     let lead = |mut shape: Vec<usize>| {
         if !single {
@@ -376,12 +381,26 @@ fn to_dict<'py>(
         }
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
     };
-    for (quantity, data) in outputs.columns {
-        let mut shape = vec![m];
-        shape.extend(quantity.shape(outputs.rotors));
-        dict.set_item(quantity_key(py, quantity), array(shape, data)?)?;
+    // The columns come in the order of Quantity::ALL, the fields' order.
+    let mut columns = outputs.columns.into_iter().peekable();
+    for quantity in Quantity::ALL {
+        match columns.next_if(|(q, _)| *q == quantity) {
+            Some((_, data)) => {
+                let mut shape = vec![m];
+                shape.extend(quantity.shape(outputs.rotors));
+                dict.set_item(quantity_key(py, quantity), array(shape, data)?)?;
+            }
+            None => dict.set_item(quantity_key(py, quantity), py.None())?,
+        }
+    }
+    if columns.next().is_some() {
+        return Err(pyo3::exceptions::PyRuntimeError::new_err(
+            "the core's outputs are not in the order of its quantities",
+        ));
     }
     dict.set_item(intern!(py, "moments"), array(vec![3], outputs.moments)?)?;
+    let stats = PyDict::new(py);
+    stats.set_item(intern!(py, "method"), method)?;
     type Count = fn(&polhode::dynamics::Stats) -> u64;
     let counts: [(&Bound<'py, PyString>, Count); 3] = [
         (intern!(py, "steps"), |s| s.steps),
@@ -391,12 +410,12 @@ fn to_dict<'py>(
     for (name, get) in counts {
         let values: Vec<u64> = outputs.stats.iter().map(get).collect();
         if single {
-            dict.set_item(name, values[0])?;
+            stats.set_item(name, values[0])?;
         } else {
-            dict.set_item(name, values.into_pyarray(py))?;
+            stats.set_item(name, values.into_pyarray(py))?;
         }
     }
-    dict.set_item(intern!(py, "method"), method)?;
+    dict.set_item(intern!(py, "stats"), stats)?;
     Ok(dict)
 }
 
