@@ -97,8 +97,9 @@ def test_as_float_array_passes_float64_arrays_through_and_converts_the_rest():
     ],
 )
 def test_as_float_array_rejects_what_is_not_real_numbers(value, what):
-    with pytest.raises(TypeError, match=f"Expected `omega0` to be an array of real numbers, got "
-                       f"{what}"):
+    with pytest.raises(
+        TypeError, match=f"Expected `omega0` to be an array of real numbers, got {what}"
+    ):
         as_float_array("omega0", value)
     with pytest.raises(TypeError, match="`omega0`"):
         ph.simulate([1.0, 2.0, 3.0], value, [0.0, 1.0])
@@ -148,3 +149,64 @@ def test_order3_is_numpys_stable_argsort():
 def test_linearized_axis_is_numpys_argmax(omega0):
     a = ph.analyze([1.0, 2.0, 3.0], omega0)
     assert a.linearized["axis"] == int(np.argmax(np.abs(omega0)))
+
+
+def test_simulate_skips_the_memory_check_only_for_one_body_at_few_times(monkeypatch):
+    # simulate skips _check_fits for one body without rotors at up to 10^5 output times: all
+    # of those outputs fit in _ALWAYS_FITS, which _check_fits would not check either.
+    assert 100_000 * 14 * 8 <= simulation._ALWAYS_FITS
+    calls = []
+    real = simulation._check_fits
+
+    def check_fits(*args):
+        calls.append(args)
+        return real(*args)
+
+    monkeypatch.setattr(simulation, "_check_fits", check_fits)
+    moments, omega0 = [1.0, 2.0, 3.0], [0.01, 1.0, 0.01]
+    ph.simulate(moments, omega0, np.linspace(0.0, 1.0, 100_000), orientation=False)
+    assert calls == []
+    ph.simulate(moments, [omega0], [0.0, 1.0])  # a batch (of one)
+    assert len(calls) == 1
+    ph.simulate(moments, omega0, np.linspace(0.0, 1.0, 100_001), orientation=False)
+    assert len(calls) == 2
+    ph.simulate(moments, omega0, [0.0, 0.1], rotors=[ph.rotors.SphericalDamper(0.2, 0.1)])
+    assert len(calls) == 3
+    # Past the skip, a run that does not fit raises MemoryError before the work.
+    monkeypatch.setattr(simulation, "_available_memory", lambda: 1)
+    with pytest.raises(MemoryError, match="bytes"):
+        ph.simulate(moments, np.zeros((600_000, 3)), [0.0, 1.0])
+
+
+def test_trajectory_fields_from_the_core_in_order_for_every_kind_of_run():
+    # The core returns every field of Trajectory by name, in order, None for those not
+    # computed: one body and a batch, with and without orientation, with rotors.
+    names = [f.name for f in dataclasses.fields(ph.Trajectory)]
+    t = np.array([0.0, 0.5, 1.0])
+    damper = ph.rotors.SphericalDamper(0.2, 0.1)
+    for omega0, kwargs, absent in [
+        ([0.01, 1.0, 0.01], {}, {"rotor_rates"}),
+        (
+            [0.01, 1.0, 0.01],
+            {"orientation": False},
+            {"rotor_rates", "quaternion", "angular_momentum_space"},
+        ),
+        (np.ones((2, 3)), {}, {"rotor_rates"}),
+        (np.ones((2, 3)), {"rotors": [damper]}, set()),
+        (
+            [0.01, 1.0, 0.01],
+            {"rotors": [damper], "orientation": False},
+            {"quaternion", "angular_momentum_space"},
+        ),
+    ]:
+        traj = ph.simulate([1.0, 2.0, 3.0], omega0, t, **kwargs)
+        assert list(vars(traj)) == names
+        assert traj.t is t
+        assert {n for n in names if getattr(traj, n) is None} == absent
+        assert list(traj.stats) == ["method", "steps", "rejected_steps", "evaluations", "wall_time"]
+        batch = np.ndim(omega0) == 2
+        assert isinstance(traj.stats["steps"], np.ndarray) == batch
+        assert traj.omega.shape == ((2,) if batch else ()) + (3, 3)
+        assert traj.moments.shape == ((2,) if batch else ()) + (3,)
+        if traj.rotor_rates is not None:
+            assert traj.rotor_rates.shape == ((2,) if batch else ()) + (3, 1, 3)

@@ -216,17 +216,21 @@ def _order3(m: list[float]) -> tuple[int, int, int]:
 
 
 def _principal_frame(
-    body: Any, rtol: float | None
+    body: Any, rtol: float | None, coerced: Any = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The principal moments (as given, or ascending) and axes (columns, body coordinates)
     of one body: a Body, principal moments (3,) or an inertia tensor (3, 3); moments within
-    ``rtol`` returned equal."""
-    if isinstance(body, Body):
+    ``rtol`` returned equal. ``coerced``, if an array, is ``body`` already coerced (what
+    ``polhode.simulation._body`` gives for numbers): not coerced again."""
+    if type(coerced) is np.ndarray:
+        array = coerced
+    elif isinstance(body, Body):
         p = body.principal(rtol)
         return p.moments, p.axes
-    array = _as_float_array("body", body)
+    else:
+        array = _as_float_array("body", body)
     if array.shape == (3,):
-        return _merged(array, rtol), _EYE
+        return (array if rtol is None else _merged(array, rtol)), _EYE
     if array.shape == (3, 3):
         p = principal(array, rtol)
         return p.moments, p.axes
@@ -308,8 +312,9 @@ def analyze(
     # The same checks as simulate (body, positive moments, finite omega0 and energy; the rotors
     # inside the body), in the core, and nothing else (free_rotation below builds the closed
     # form, with its own checks).
-    _core.check_motion(_simulation_body(body), omega_body, rotors=list(rotors) or None)
-    moments, axes = _principal_frame(body, rtol)
+    coerced = _simulation_body(body)
+    _core.check_motion(coerced, omega_body, rotors=list(rotors) if rotors else None)
+    moments, axes = _principal_frame(body, rtol, coerced)
     # Ascending moments (a stable sort, as numpy's); Python floats from here on: a small call.
     m = moments.tolist()
     order = _order3(m)

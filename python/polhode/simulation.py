@@ -254,33 +254,14 @@ def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float
 OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
 
 
-def _trajectory(
-    times: NDArray[np.float64], outputs: dict[str, Any], stats: dict[str, Any]
-) -> Trajectory:
-    """The Trajectory of the core's outputs by name (each a field; None for those it did not
-    compute).
-
-    The same object as ``Trajectory(t=times, stats=stats, **fields)``, its fields set in one
-    step: a frozen dataclass's ``__init__`` sets each through ``object.__setattr__``, a tenth
-    of a small call."""
-    trajectory = object.__new__(Trajectory)
-    fields = dict.fromkeys(_FIELDS)  # every field, in order, None until set
-    fields.update(outputs)
-    fields["t"] = times
-    fields["stats"] = stats
-    trajectory.__dict__.update(fields)
-    return trajectory
-
-
-#: Every field of Trajectory, in order.
-_FIELDS = tuple(Trajectory.__dataclass_fields__)
-
-
 def _body(body: Any) -> Any:
     """What the core takes for ``body``: the core of a Body, a list of them, or numbers."""
+    if type(body) is np.ndarray:
+        # Numbers (neither a Body nor a list): the two checks below skipped, in a small call.
+        return _as_float_array("body", body)
     if isinstance(body, Body):
         return body._core
-    if isinstance(body, list | tuple) and body and all(isinstance(b, Body) for b in body):
+    if isinstance(body, (list, tuple)) and body and all(isinstance(b, Body) for b in body):
         return [b._core for b in body]
     return _as_float_array("body", body)
 
@@ -490,42 +471,48 @@ def simulate(
         raise TypeError(f"Expected `method` to be a string, got {type(method).__name__}.")
     if progress is not False:
         _check_progress(progress)
-    t0 = as_scalar("t0", t0)
+    # A float or an int needs no conversion (what as_scalar and as_integer return for one):
+    # a small call skips those calls for the defaults.
+    if type(t0) is not float:
+        t0 = as_scalar("t0", t0)
     times = _as_float_array("t", t)
     if times.shape == (1,) and np.ndim(t) == 0:
         times = np.array([t0, float(times[0])])
     omega = _as_float_array("omega0", omega0)
     rotors = None if rotors is None else as_rotors(rotors)
     orientation = bool(orientation)
-    _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
+    # One body at up to 10^5 output times (at most 14 numbers each) fits in _ALWAYS_FITS.
+    if rotors is not None or omega.ndim != 1 or times.size > 100_000:
+        _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
     callback, bar = (None, None) if progress is False else _progress(progress)
     try:
+        # By position, in the order of the core's signature (body, omega0, t, orientation0,
+        # t0, method, dt, order, rtol, atol, torque, orientation, max_steps, progress,
+        # rotors): no keyword names to match.
         outputs = _core.simulate(
             _body(body),
             omega,
             times,
-            orientation0=None if orientation0 is None else _orientation0(orientation0),
-            t0=t0,
-            method=method,
-            dt=None if dt is None else as_scalar("dt", dt),
-            order=as_integer("order", order),
-            rtol=as_scalar("rtol", rtol),
-            atol=None if atol is None else as_scalar("atol", atol),
-            torque=None if torque is None else as_torque(torque),
-            orientation=orientation,
-            max_steps=as_integer("max_steps", max_steps),
-            progress=callback,
-            rotors=rotors,
+            None if orientation0 is None else _orientation0(orientation0),
+            t0,
+            method,
+            None if dt is None else as_scalar("dt", dt),
+            order if type(order) is int else as_integer("order", order),
+            rtol if type(rtol) is float else as_scalar("rtol", rtol),
+            None if atol is None else as_scalar("atol", atol),
+            None if torque is None else as_torque(torque),
+            orientation,
+            max_steps if type(max_steps) is int else as_integer("max_steps", max_steps),
+            callback,
+            rotors,
         )
     finally:
         if bar is not None:
             bar.close()
-    pop = outputs.pop
-    stats = {
-        "method": pop("method"),
-        "steps": pop("steps"),
-        "rejected_steps": pop("rejected_steps"),
-        "evaluations": pop("evaluations"),
-        "wall_time": time.perf_counter() - started,
-    }
-    return _trajectory(times, outputs, stats)
+    # The core returns every field by name, in order (``t`` is ``times``; ``stats`` lacks only
+    # the wall time): the same object as ``Trajectory(**outputs)``, its fields set in one step
+    # (a frozen dataclass's ``__init__`` sets each through ``object.__setattr__``).
+    outputs["stats"]["wall_time"] = time.perf_counter() - started
+    trajectory = object.__new__(Trajectory)
+    trajectory.__dict__.update(outputs)
+    return trajectory

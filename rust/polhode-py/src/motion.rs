@@ -4,19 +4,22 @@
 //! lives in `polhode::simulation`; here are only the shapes of the arguments, the method's
 //! name, the GIL, Ctrl-C and progress.
 
+use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-use numpy::ndarray::ArrayD;
+use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::simulation::{
-    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Simulation,
+    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Quantity,
+    Simulation,
 };
 use pyo3::exceptions::PyTypeError;
+use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyString};
 
 use crate::convert::bad_shape;
 use crate::errors::{argument_error, CoreError};
@@ -28,12 +31,14 @@ use crate::watch::{run_on_pool, Watch};
 /// A float64 array of any shape, as (shape, row-major numbers). A contiguous array is copied
 /// as one slice (iterating a dynamic-dimensional view costs ~20 ns a number: 0.2 s of output
 /// times that Ctrl-C could not interrupt for 1e7).
-fn dense(a: &PyReadonlyArrayDyn<'_, f64>) -> (Vec<usize>, Vec<f64>) {
+/// A contiguous array is borrowed as it is, not copied (each copy an allocation of a small
+/// call).
+fn dense<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> (&'a [usize], Cow<'a, [f64]>) {
     let data = match a.as_slice() {
-        Ok(slice) => slice.to_vec(),
-        Err(_) => a.as_array().iter().copied().collect(),
+        Ok(slice) => Cow::Borrowed(slice),
+        Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
     };
-    (a.shape().to_vec(), data)
+    (a.shape(), data)
 }
 
 fn rows3(data: &[f64]) -> Vec<Vector3<f64>> {
@@ -73,7 +78,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
     }
     let array: PyReadonlyArrayDyn<'_, f64> = body.extract()?;
     let (shape, data) = dense(&array);
-    match (n, shape.as_slice()) {
+    match (n, shape) {
         (_, [3]) => Ok(vec![Body::Moments(Vector3::from_column_slice(&data))]),
         (None, [3, 3]) => Ok(vec![Body::Inertia(Matrix3::from_row_slice(&data))]),
         (Some(n), [rows, 3]) if *rows == n => {
@@ -83,7 +88,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
             "body",
             "(3,) principal moments or a (3, 3) tensor, since `omega0` has shape (3,) (one body; \
              for N bodies give `omega0` of shape (N, 3))",
-            &shape,
+            shape,
         )),
         (Some(n), _) => Err(bad_shape(
             "body",
@@ -91,7 +96,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
                 "({n}, 3) principal moments to match `omega0`, or (3,) moments shared by all \
                  (a (3, 3) tensor is one body: give `omega0` of shape (3,))"
             ),
-            &shape,
+            shape,
         )),
     }
 }
@@ -108,7 +113,7 @@ fn orientations(
     let convert = |k: usize, item: polhode::Result<UnitQuaternion<f64>>| {
         item.map_err(|e| CoreError(if k > 0 { e.in_body(k) } else { e }).into())
     };
-    match shape.as_slice() {
+    match shape {
         [4] | [_, 4] => data
             .chunks_exact(4)
             .enumerate()
@@ -132,16 +137,17 @@ fn orientations(
         _ => Err(bad_shape(
             "orientation0",
             "(4,) an (x, y, z, w) quaternion, (3, 3) a rotation matrix, or N of them",
-            &shape,
+            shape,
         )),
     }
 }
 
 /// Integrates one body (`omega0` of shape (3,)) or N bodies (`omega0` (N, 3)): see
-/// `polhode.simulate`. Returns a dict of the outputs by name, a single body without the
-/// leading N: every quantity of `polhode::simulation::Quantity` present (those needing the
-/// orientation only with `orientation=True`, `rotor_rates` only with rotors), `moments`,
-/// `steps`, `rejected_steps`, `evaluations` and `method`. `rotors` is a sequence of
+/// `polhode.simulate`. Returns the fields of a `Trajectory` by name, in their order: `t` (the
+/// array `t` itself), every quantity of `polhode::simulation::Quantity` (a single body without
+/// the leading N; None for those not computed: those needing the orientation without
+/// `orientation=True`, `rotor_rates` without rotors), `moments`, and `stats`, a dict of
+/// `method`, `steps`, `rejected_steps` and `evaluations`. `rotors` is a sequence of
 /// `polhode.rotors` rotors, shared by every body.
 ///
 /// `progress`, if given, is called with the fraction of the work done (in [0, 1],
@@ -155,7 +161,7 @@ fn orientations(
 /// work to another thread. A batch runs on the rayon pool (see [`run_on_pool`]).
 #[pyfunction]
 #[pyo3(signature = (
-    body, omega0, t, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
+    body, omega0, t, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
     rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None,
     rotors=None
 ))]
@@ -179,17 +185,17 @@ pub fn simulate<'py>(
     rotors: Option<Vec<Bound<'py, PyAny>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (omega_shape, omega_data) = dense(&omega0);
-    let n = match omega_shape.as_slice() {
+    let n = match omega_shape {
         [3] => None,
         [n, 3] => Some(*n),
-        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", &omega_shape)),
+        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
     };
     let bodies = bodies(body, n)?;
     let omega0 = rows3(&omega_data);
     let orientation0 = orientations(orientation0)?;
     let (t_shape, times) = dense(&t);
     if t_shape.len() != 1 {
-        return Err(bad_shape("t", "(M,)", &t_shape));
+        return Err(bad_shape("t", "(M,)", t_shape));
     }
     let raised: Raised = Arc::new(Mutex::new(None));
     let spec = torque
@@ -273,7 +279,7 @@ pub fn simulate<'py>(
     if let Some(progress) = &watch.progress {
         progress.call1(py, (1.0,))?;
     }
-    to_dict(py, outputs, n.is_none(), run.method.name())
+    to_dict(py, outputs, n.is_none(), run.method.name(), t.as_any())
 }
 
 /// Checks one body, its initial angular velocity and its rotors as `simulate` checks them (the
@@ -289,8 +295,8 @@ pub fn check_motion(
     rotors: Option<Vec<Bound<'_, PyAny>>>,
 ) -> PyResult<()> {
     let (omega_shape, omega_data) = dense(&omega0);
-    if omega_shape.as_slice() != [3] {
-        return Err(bad_shape("omega0", "(3,)", &omega_shape));
+    if omega_shape != [3] {
+        return Err(bad_shape("omega0", "(3,)", omega_shape));
     }
     let bodies = bodies(body, None)?;
     let raised: Raised = Arc::new(Mutex::new(None));
@@ -328,14 +334,32 @@ pub fn check_motion(
     Ok(())
 }
 
-/// The outputs by name; a single body drops the leading N.
+/// A quantity's name as a Python string made once per process (`intern!`): a small call
+/// then neither builds nor hashes its keys anew, nor does the Python layer reading them.
+fn quantity_key<'py>(py: Python<'py>, quantity: Quantity) -> Bound<'py, PyString> {
+    match quantity {
+        Quantity::Omega => intern!(py, "omega"),
+        Quantity::Quaternion => intern!(py, "quaternion"),
+        Quantity::AngularMomentumSpace => intern!(py, "angular_momentum_space"),
+        Quantity::AngularMomentumBody => intern!(py, "angular_momentum_body"),
+        Quantity::Energy => intern!(py, "energy"),
+        Quantity::RotorRates => intern!(py, "rotor_rates"),
+    }
+    .clone()
+}
+
+/// The fields of a `Trajectory` by name, in their order (what `polhode.simulate` sets in one
+/// step): `t`, the outputs (None for those not computed; a single body drops the leading N),
+/// `moments` and `stats`.
 fn to_dict<'py>(
     py: Python<'py>,
     outputs: Outputs,
     single: bool,
     method: &str,
+    t: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
+    dict.set_item(intern!(py, "t"), t)?;
     let (n, m) = (outputs.n, outputs.m);
     let lead = |mut shape: Vec<usize>| {
         if !single {
@@ -344,31 +368,54 @@ fn to_dict<'py>(
         shape
     };
     let array = |shape: Vec<usize>, data: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
-        ArrayD::from_shape_vec(lead(shape), data)
-            .map(|a| a.into_pyarray(py).into_any())
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+        let shape = lead(shape);
+        // Fixed dimensions where there are up to three (every output but a batch's rotor
+        // rates): the same array, without the dynamic dimension's work per array.
+        match *shape.as_slice() {
+            [a] => Array1::from_shape_vec(a, data).map(|a| a.into_pyarray(py).into_any()),
+            [a, b] => Array2::from_shape_vec((a, b), data).map(|a| a.into_pyarray(py).into_any()),
+            [a, b, c] => {
+                Array3::from_shape_vec((a, b, c), data).map(|a| a.into_pyarray(py).into_any())
+            }
+            _ => ArrayD::from_shape_vec(shape, data).map(|a| a.into_pyarray(py).into_any()),
+        }
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
     };
-    for (quantity, data) in outputs.columns {
-        let mut shape = vec![m];
-        shape.extend(quantity.shape(outputs.rotors));
-        dict.set_item(quantity.name(), array(shape, data)?)?;
+    // The columns come in the order of Quantity::ALL, the fields' order.
+    let mut columns = outputs.columns.into_iter().peekable();
+    for quantity in Quantity::ALL {
+        match columns.next_if(|(q, _)| *q == quantity) {
+            Some((_, data)) => {
+                let mut shape = vec![m];
+                shape.extend(quantity.shape(outputs.rotors));
+                dict.set_item(quantity_key(py, quantity), array(shape, data)?)?;
+            }
+            None => dict.set_item(quantity_key(py, quantity), py.None())?,
+        }
     }
-    dict.set_item("moments", array(vec![3], outputs.moments)?)?;
+    if columns.next().is_some() {
+        return Err(pyo3::exceptions::PyRuntimeError::new_err(
+            "the core's outputs are not in the order of its quantities",
+        ));
+    }
+    dict.set_item(intern!(py, "moments"), array(vec![3], outputs.moments)?)?;
+    let stats = PyDict::new(py);
+    stats.set_item(intern!(py, "method"), method)?;
     type Count = fn(&polhode::dynamics::Stats) -> u64;
-    let counts: [(&str, Count); 3] = [
-        ("steps", |s| s.steps),
-        ("rejected_steps", |s| s.rejected_steps),
-        ("evaluations", |s| s.rhs_evaluations),
+    let counts: [(&Bound<'py, PyString>, Count); 3] = [
+        (intern!(py, "steps"), |s| s.steps),
+        (intern!(py, "rejected_steps"), |s| s.rejected_steps),
+        (intern!(py, "evaluations"), |s| s.rhs_evaluations),
     ];
     for (name, get) in counts {
         let values: Vec<u64> = outputs.stats.iter().map(get).collect();
         if single {
-            dict.set_item(name, values[0])?;
+            stats.set_item(name, values[0])?;
         } else {
-            dict.set_item(name, values.into_pyarray(py))?;
+            stats.set_item(name, values.into_pyarray(py))?;
         }
     }
-    dict.set_item("method", method)?;
+    dict.set_item(intern!(py, "stats"), stats)?;
     Ok(dict)
 }
 
@@ -398,13 +445,20 @@ pub fn free_rotation<'py>(
         #[allow(unreachable_patterns)]
         _ => ("unknown", None),
     };
-    out.set_item("regime", regime)?;
-    out.set_item("axis", axis)?;
-    out.set_item("period", free.period())?;
-    out.set_item("energy", free.energy())?;
-    out.set_item("angular_momentum_norm", free.angular_momentum_norm())?;
-    out.set_item("precession_rate_space", free.precession_rate_space())?;
-    out.set_item("nutation_angle", free.nutation_angle())?;
+    // Keys made once per process (`intern!`): neither built nor hashed anew per call.
+    out.set_item(intern!(py, "regime"), regime)?;
+    out.set_item(intern!(py, "axis"), axis)?;
+    out.set_item(intern!(py, "period"), free.period())?;
+    out.set_item(intern!(py, "energy"), free.energy())?;
+    out.set_item(
+        intern!(py, "angular_momentum_norm"),
+        free.angular_momentum_norm(),
+    )?;
+    out.set_item(
+        intern!(py, "precession_rate_space"),
+        free.precession_rate_space(),
+    )?;
+    out.set_item(intern!(py, "nutation_angle"), free.nutation_angle())?;
     Ok(out)
 }
 
