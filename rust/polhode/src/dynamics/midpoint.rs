@@ -36,13 +36,22 @@ fn solve(j: &Mat3, k: f64, b: &Vector3<f64>) -> Option<Vector3<f64>> {
         [-k * j[1][0], 1.0 - k * j[1][1], -k * j[1][2]],
         [-k * j[2][0], -k * j[2][1], 1.0 - k * j[2][2]],
     ];
+    let (x, det) = cramer(&a, &[b[0], b[1], b[2]]);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    Some(Vector3::new(x[0], x[1], x[2]))
+}
+
+/// `a x = b` by Cramer's rule, and `det a` (the caller rejects a zero or non-finite one):
+/// branch-free, so that the lanes (`lanes.rs`) run it for each lane in a vectorised loop with
+/// the numbers of [`solve`].
+#[inline(always)]
+pub(crate) fn cramer(a: &[[f64; 3]; 3], b: &[f64; 3]) -> ([f64; 3], f64) {
     let c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
     let c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
     let c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
     let det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
     let inv = 1.0 / det;
     let c10 = a[0][2] * a[2][1] - a[0][1] * a[2][2];
     let c11 = a[0][0] * a[2][2] - a[0][2] * a[2][0];
@@ -50,11 +59,12 @@ fn solve(j: &Mat3, k: f64, b: &Vector3<f64>) -> Option<Vector3<f64>> {
     let c20 = a[0][1] * a[1][2] - a[0][2] * a[1][1];
     let c21 = a[0][2] * a[1][0] - a[0][0] * a[1][2];
     let c22 = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-    Some(Vector3::new(
+    let x = [
         (c00 * b[0] + c10 * b[1] + c20 * b[2]) * inv,
         (c01 * b[0] + c11 * b[1] + c21 * b[2]) * inv,
         (c02 * b[0] + c12 * b[1] + c22 * b[2]) * inv,
-    ))
+    ];
+    (x, det)
 }
 
 fn no_convergence(t: Option<f64>, h: f64, why: &str) -> Error {
