@@ -287,6 +287,55 @@ def _qpow(Q, n):
     return [x * f, y * f, z * f, mp.cos(a)]
 
 
+def midpoint_step_mp(moments, omega0, quat0_xyzw, h, dps=50):
+    """One step of the implicit midpoint rule from the definition, at ``dps`` digits: the
+    midpoint ``w_m`` solving ``w_m = w0 + h/2 f(w_m)`` (Euler's equations) by Newton's method
+    with the analytic Jacobian, ``w1 = 2 w_m - w0``; and ``q1`` solving the linear midpoint
+    equation ``q1 = q0 + h (q0 + q1)/2 (x) (0, w_m) / 2`` as a 4x4 linear system (not by the
+    Cayley formula), divided by its norm (the integrator renormalises each step). Returns
+    ``(w1, q1)`` as mpmath numbers."""
+    with mp.workdps(dps):
+        i1, i2, i3 = (mp.mpf(float(m)) for m in moments)
+        c = [(i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3]
+        w0 = [mp.mpf(float(x)) for x in omega0]
+        k = mp.mpf(float(h)) / 2
+
+        def f(w):
+            return [c[0] * w[1] * w[2], c[1] * w[2] * w[0], c[2] * w[0] * w[1]]
+
+        w = list(w0)
+        for _ in range(200):
+            fw = f(w)
+            r = mp.matrix([w0[i] + k * fw[i] - w[i] for i in range(3)])
+            jac = mp.matrix(
+                [
+                    [0, c[0] * w[2], c[0] * w[1]],
+                    [c[1] * w[2], 0, c[1] * w[0]],
+                    [c[2] * w[1], c[2] * w[0], 0],
+                ]
+            )
+            d = mp.lu_solve(mp.eye(3) - k * jac, r)
+            w = [w[i] + d[i] for i in range(3)]
+            if max(abs(x) for x in d) <= mp.mpf(10) ** (-dps + 5) * max(abs(x) for x in w):
+                break
+        else:
+            raise RuntimeError("midpoint_step_mp: Newton did not converge")
+        w1 = [2 * w[i] - w0[i] for i in range(3)]
+        q0 = [mp.mpf(float(x)) for x in quat0_xyzw]
+        # q1 - (h/4) q1 (x) (0, w_m) = q0 + (h/4) q0 (x) (0, w_m): column j of the product's
+        # matrix is e_j (x) (0, w_m).
+        wq = [w[0], w[1], w[2], mp.mpf(0)]
+        cols = [_qmul([1 if i == j else 0 for i in range(4)], wq) for j in range(4)]
+        m = mp.matrix(4, 4)
+        for i in range(4):
+            for j in range(4):
+                m[i, j] = (1 if i == j else 0) - mp.mpf(float(h)) / 4 * cols[j][i]
+        rhs = mp.matrix([q0[i] + mp.mpf(float(h)) / 4 * _qmul(q0, wq)[i] for i in range(4)])
+        q1 = mp.lu_solve(m, rhs)
+        n = mp.sqrt(sum(q1[i] ** 2 for i in range(4)))
+        return w1, [q1[i] / n for i in range(4)]
+
+
 def _work_dps(dps, moments, omega0):
     c = motion_constants(moments, omega0)
     extra = 0
