@@ -5,7 +5,7 @@
 //! Each body is integrated in its principal axes, where Euler's equations are diagonal: with
 //! `V` the principal axes (columns, in body coordinates, a proper rotation),
 //! `omega_p = V^T omega_b` and `R_p = R_b V`. A torque, given in body axes, is rotated into the
-//! principal axes in one place ([`InFrame`]), whatever its model. The outputs are turned back
+//! principal axes in one place (`InFrame`), whatever its model. The outputs are turned back
 //! into body axes, quaternions kept continuous in time (`q` and `-q` are one rotation).
 //!
 //! ```

@@ -70,7 +70,7 @@ impl Stepping {
 }
 
 /// Every method by the name a user gives it, and how it steps. Adding a method is its module
-/// (a [`Stepper`]), a variant of [`Method`] with its arm in the driver, and its row here and in
+/// (a `Stepper`), a variant of [`Method`] with its arm in the driver, and its row here and in
 /// [`Method::from_name`] and [`Method::name`].
 pub const METHODS: &[(&str, Stepping)] = &[
     ("auto", Stepping::Auto),

@@ -3,7 +3,7 @@
 //!
 //! `w' = w + h f(t + h/2, w_m, q_m)`, `w_m = (w + w')/2`: the 3x3 equation for `w_m` is solved by
 //! Newton's method to round-off; without a torque, for the increment `z = w_m - w` (see
-//! [`free_increment`]). The midpoint rule conserves every quadratic invariant of the
+//! `free_increment`). The midpoint rule conserves every quadratic invariant of the
 //! free body, so `T = 1/2 sum I_i w_i^2` and `|L|^2 = sum I_i^2 w_i^2` are conserved to
 //! round-off. The quaternion equation `q' = 1/2 q (x) (0, w_m)` is linear in `q`, and its
 //! midpoint step is the Cayley transform `q' = q (x) (1 + a)(1 - a)^-1`, `a = (0, h w_m / 4)`,
