@@ -333,7 +333,7 @@ impl<const ATT: bool> LaneStepper for Rk4<ATT> {
     const WIDE: bool = true;
 
     /// Written as a loop over the lanes of the scalar step (`super::rk4`, `Moments::euler_rhs`,
-    /// `quaternion_rate`) on arrays, which the compiler vectorises as a whole.
+    /// `quaternion_rate2`) on arrays, which the compiler vectorises as a whole.
     #[inline(always)]
     fn step(&mut self, (w, q): &mut Vars, h: f64, _live: Mask) -> Mask {
         let mut wa = [w[0].lanes(), w[1].lanes(), w[2].lanes()];
@@ -344,7 +344,9 @@ impl<const ATT: bool> LaneStepper for Rk4<ATT> {
             self.euler[2].lanes(),
         ];
         let half = 0.5 * h;
+        let quarter = 0.5 * half;
         let sixth = h / 6.0;
+        let twelfth = 0.5 * sixth;
         for l in 0..LANES {
             let c = [e[0][l], e[1][l], e[2][l]];
             let rate = |w: &[f64; 3], q: &[f64; 4]| -> ([f64; 3], [f64; 4]) {
@@ -354,11 +356,12 @@ impl<const ATT: bool> LaneStepper for Rk4<ATT> {
                 }
                 let (x, y, z, s) = (q[0], q[1], q[2], q[3]);
                 let (a, b, c) = (w[0], w[1], w[2]);
+                // `quaternion_rate2`: 2 q', the factor 1/2 in the coefficients.
                 let dq = [
-                    0.5 * (s * a + y * c - z * b),
-                    0.5 * (s * b + z * a - x * c),
-                    0.5 * (s * c + x * b - y * a),
-                    -0.5 * (x * a + y * b + z * c),
+                    s * a + y * c - z * b,
+                    s * b + z * a - x * c,
+                    s * c + x * b - y * a,
+                    -(x * a + y * b + z * c),
                 ];
                 (dw, dq)
             };
@@ -374,15 +377,17 @@ impl<const ATT: bool> LaneStepper for Rk4<ATT> {
                 ]
             };
             let (a1, b1) = rate(&w0, &q0);
-            let (a2, b2) = rate(&ax3(&a1, half), &ax4(&b1, half));
-            let (a3, b3) = rate(&ax3(&a2, half), &ax4(&b2, half));
-            let (a4, b4) = rate(&ax3(&a3, h), &ax4(&b3, h));
+            let (a2, b2) = rate(&ax3(&a1, half), &ax4(&b1, quarter));
+            let (a3, b3) = rate(&ax3(&a2, half), &ax4(&b2, quarter));
+            let (a4, b4) = rate(&ax3(&a3, h), &ax4(&b3, half));
             for i in 0..3 {
-                wa[i][l] = w0[i] + (a1[i] + (a2[i] + a3[i]) * 2.0 + a4[i]) * sixth;
+                let m = a2[i] + a3[i];
+                wa[i][l] = w0[i] + (a1[i] + (m + m) + a4[i]) * sixth;
             }
             if ATT {
                 for i in 0..4 {
-                    qa[i][l] = q0[i] + (b1[i] + (b2[i] + b3[i]) * 2.0 + b4[i]) * sixth;
+                    let m = b2[i] + b3[i];
+                    qa[i][l] = q0[i] + (b1[i] + (m + m) + b4[i]) * twelfth;
                 }
             }
         }

@@ -36,19 +36,26 @@ impl<L: Load, const ORIENTATION: bool> Stepper for Rk4<'_, L, ORIENTATION> {
     #[inline(always)]
     fn step(&mut self, segment: &Segment, t: f64, (w, q): &mut Vars, h: f64) -> Result<()> {
         let (body, load) = (self.body, self.load);
+        // `rate` gives 2 q' (`b`): its factor 1/2 is in the coefficients, `quarter` for `half`
+        // and `twelfth` for `sixth` (the same numbers in the normal range: powers of two).
         let half = 0.5 * h;
+        let quarter = 0.5 * half;
         let (w0, q0) = (*w, *q);
         let (a1, b1) = rate::<L, ORIENTATION>(body, load, segment, t, &w0, &q0)?;
-        let (w2, q2) = (w0 + a1 * half, q0 + b1 * half);
+        let (w2, q2) = (w0 + a1 * half, q0 + b1 * quarter);
         let (a2, b2) = rate::<L, ORIENTATION>(body, load, segment, t + half, &w2, &q2)?;
-        let (w3, q3) = (w0 + a2 * half, q0 + b2 * half);
+        let (w3, q3) = (w0 + a2 * half, q0 + b2 * quarter);
         let (a3, b3) = rate::<L, ORIENTATION>(body, load, segment, t + half, &w3, &q3)?;
-        let (w4, q4) = (w0 + a3 * h, q0 + b3 * h);
+        let (w4, q4) = (w0 + a3 * h, q0 + b3 * half);
         let (a4, b4) = rate::<L, ORIENTATION>(body, load, segment, t + h, &w4, &q4)?;
         let sixth = h / 6.0;
-        *w = w0 + (a1 + (a2 + a3) * 2.0 + a4) * sixth;
+        let twelfth = 0.5 * sixth;
+        // `m + m` is `2 m` exactly, an addition rather than a product.
+        let m = a2 + a3;
+        *w = w0 + (a1 + (m + m) + a4) * sixth;
         if ORIENTATION {
-            *q = q0 + (b1 + (b2 + b3) * 2.0 + b4) * sixth;
+            let m = b2 + b3;
+            *q = q0 + (b1 + (m + m) + b4) * twelfth;
         }
         Ok(())
     }

@@ -163,16 +163,25 @@ impl Moments {
     }
 }
 
-/// `q' = 1/2 q (x) (0, w)` on raw quaternion coordinates `(x, y, z, w)`.
+/// `q' = 1/2 q (x) (0, w)` on raw quaternion coordinates `(x, y, z, w)`: half of
+/// [`quaternion_rate2`] (exactly: a product by 1/2).
 #[inline]
 pub(crate) fn quaternion_rate(q: &Vector4<f64>, omega: &Vector3<f64>) -> Vector4<f64> {
+    quaternion_rate2(q, omega) * 0.5
+}
+
+/// `2 q' = q (x) (0, w)` on raw quaternion coordinates `(x, y, z, w)`: the rate without its
+/// factor 1/2, which an integrator folds into its step's coefficients (rk4: four products
+/// fewer a stage).
+#[inline]
+pub(crate) fn quaternion_rate2(q: &Vector4<f64>, omega: &Vector3<f64>) -> Vector4<f64> {
     let (x, y, z, s) = (q[0], q[1], q[2], q[3]);
     let (a, b, c) = (omega[0], omega[1], omega[2]);
     // (v, s) (x) (w, 0) = (s w + v x w, -v.w)
     Vector4::new(
-        0.5 * (s * a + y * c - z * b),
-        0.5 * (s * b + z * a - x * c),
-        0.5 * (s * c + x * b - y * a),
-        -0.5 * (x * a + y * b + z * c),
+        s * a + y * c - z * b,
+        s * b + z * a - x * c,
+        s * c + x * b - y * a,
+        -(x * a + y * b + z * c),
     )
 }

@@ -4,7 +4,7 @@
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
-use super::state::{quaternion_rate, Moments, State};
+use super::state::{quaternion_rate2, Moments, State};
 use super::torque::{Segment, Torque};
 use crate::Result;
 
@@ -38,10 +38,11 @@ impl<T: Torque + ?Sized> Load for &T {
     }
 }
 
-/// Euler's vector field `(w', q')` at `(t, w, q)` under `load`, for a step lying in `segment`
-/// (free of discontinuities of the torque; see [`Torque::try_torque_body_in`]). With
-/// `ORIENTATION` the torque sees the orientation `q / |q|`; without, the identity (the caller
-/// ensures that the torque does not depend on it) and `q'` is zero.
+/// Euler's vector field as `(w', 2 q')` at `(t, w, q)` under `load`, for a step lying in
+/// `segment` (free of discontinuities of the torque; see [`Torque::try_torque_body_in`]): the
+/// quaternion's rate without its factor 1/2 ([`quaternion_rate2`]). With `ORIENTATION` the
+/// torque sees the orientation `q / |q|`; without, the identity (the caller ensures that the
+/// torque does not depend on it) and `q'` is zero.
 #[inline(always)]
 pub(crate) fn rate<L: Load, const ORIENTATION: bool>(
     body: &Moments,
@@ -64,7 +65,7 @@ pub(crate) fn rate<L: Load, const ORIENTATION: bool>(
         }
     };
     let dq = if ORIENTATION {
-        quaternion_rate(q, w)
+        quaternion_rate2(q, w)
     } else {
         Vector4::zeros()
     };
@@ -96,8 +97,9 @@ impl<L: Load> System<7> for Field<'_, L> {
     #[inline]
     fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, 7>) -> Result<SVector<f64, 7>> {
         let (w, q) = parts(y);
-        let (dw, dq) = rate::<L, true>(self.body, self.load, segment, t, &w, &q)?;
-        Ok(join(&dw, &dq))
+        let (dw, dq2) = rate::<L, true>(self.body, self.load, segment, t, &w, &q)?;
+        // q' = (2 q') / 2: the bits of `quaternion_rate`.
+        Ok(join(&dw, &(dq2 * 0.5)))
     }
 }
 
