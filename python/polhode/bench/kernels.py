@@ -108,12 +108,13 @@ FLOPS: dict[str, float | None] = {
     "exact_omega": None,
     # Classic RK4 on Euler's equations and q' = q (0, omega) / 2, per body-step:
     #   a stage: w_j w_k times (I_j - I_k) / I_i (the ratios precomputed)   3 x 2 mul = 6
-    #            the quaternion's rate: 4 components of 3 mul, 2 add, times 1/2   24
-    #            = 30, four stages                                          120
+    #            the quaternion's rate: 4 components of 3 mul, 2 add        20
+    #            (its factor 1/2 is folded into the coefficients)
+    #            = 26, four stages                                          104
     #   the three stage states y + h k, 7 components                       3 x 7 x 2 = 42
-    #   y + dt/6 (k1 + 2 (k2 + k3) + k4), 7 components: 4 add, 2 mul    7 x 6 = 42
-    # 204 per body-step (the issue's ~220).
-    "rk4": 4 * (6 + 24) + 3 * 7 * 2 + 7 * 6,
+    #   y + dt/6 (k1 + 2 (k2 + k3) + k4), 7 components: 5 add, 1 mul    7 x 6 = 42
+    # 188 per body-step (the issue's ~220).
+    "rk4": 4 * (6 + 20) + 3 * 7 * 2 + 7 * 6,
     # The splitting's exact sub-rotations take sines and cosines, the implicit midpoint rule
     # iterates to convergence: no fixed count.
     "splitting": None,
