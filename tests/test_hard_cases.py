@@ -384,3 +384,32 @@ def test_trace_shift_large_isotropic_part(seed):
     for k in range(3):
         angle = ref.axis_angle(p.axes[:, k], vectors[:, k])
         assert angle <= 1e-12, f"axis {k} off by {angle:.3e} rad (bound 1e-12)"
+
+
+@pytest.mark.parametrize("small", [1e-20, 1e-12, 3e-300])
+def test_a_decoupled_axis_keeps_its_moment_exactly(small):
+    """A moment whose axis no rotation touches (a diagonal tensor, or an axis decoupled from a
+    rotated block) is exactly its diagonal entry, however small beside the others (here an
+    exact eigenvalue by construction). Shifted by trace/3 and back it lost its digits below eps
+    of the trace: diag(1e-20, 1, 1) gave 0, and simulate refused the body for a zero moment."""
+    p = ph.principal(np.diag([1.0, small, 2.0]))
+    assert p.moments.tolist() == [small, 1.0, 2.0]
+    np.testing.assert_array_equal(np.abs(p.axes), np.eye(3)[:, [1, 0, 2]])
+    # A rotated 2x2 block in the xy plane and the small moment on z.
+    c, s = math.cos(0.3), math.sin(0.3)
+    r = np.array([[c, -s], [s, c]])
+    a = np.zeros((3, 3))
+    a[:2, :2] = r @ np.diag([1.0, 2.0]) @ r.T
+    a[2, 2] = small
+    a = 0.5 * (a + a.T)
+    p = ph.principal(a)
+    assert p.moments[0] == small
+    np.testing.assert_array_equal(p.axes[:, 0] ** 2, [0.0, 0.0, 1.0])
+    values, _ = ref.eigh_mp(a)
+    np.testing.assert_allclose(p.moments[1:], [float(v) for v in values[1:]], atol=4 * EPS * 2)
+    check_eigen(a, p.moments, p.axes)
+    # A body given by the diagonal tensor moves as the one given by its moments.
+    times = np.array([0.0, 1.0])
+    by_tensor = ph.simulate(np.diag([small, 1.0, 1.0]), [1.0, 0.0, 0.1], times)
+    by_moments = ph.simulate([small, 1.0, 1.0], [1.0, 0.0, 0.1], times)
+    np.testing.assert_array_equal(by_tensor.omega, by_moments.omega)

@@ -342,6 +342,8 @@ fn cross<const L: usize>(a: &[Lane<L>; 3], b: &[Lane<L>; 3]) -> [Lane<L>; 3] {
 struct Lanes<const L: usize> {
     a: [[Lane<L>; 3]; 3],
     v: [[Lane<L>; 3]; 3],
+    /// The diagonal of the tensor before its shift: `2^-exponent` times the one loaded.
+    diagonal: [Lane<L>; 3],
     shift: Lane<L>,
     scale: Lane<L>,
     norm: Lane<L>,
@@ -354,6 +356,7 @@ impl<const L: usize> Default for Lanes<L> {
         Self {
             a: [[[0.0; L]; 3]; 3],
             v: [[[0.0; L]; 3]; 3],
+            diagonal: [[0.0; L]; 3],
             shift: [0.0; L],
             scale: [1.0; L],
             norm: [0.0; L],
@@ -433,6 +436,7 @@ impl<const L: usize> Lanes<L> {
                 self.v[r][c] = [if r == c { 1.0 } else { 0.0 }; L];
             }
         }
+        self.diagonal = three(|k| m[k][k]);
         self.shift = shift;
         self.scale = scale;
         self.norm = lanes(|l| squares[l].sqrt());
@@ -510,9 +514,25 @@ impl<const L: usize> Lanes<L> {
 
     /// The canonical principal frames (moments in units of `2^exponent`); equal moments within
     /// `rtol ||A||_F`.
+    ///
+    /// A moment is its rotated diagonal entry plus the shift, but where no rotation touched its
+    /// axis (still exactly a coordinate axis: a diagonal tensor, or an axis decoupled from the
+    /// other two) it is the tensor's own diagonal entry, exact. Shifted and shifted back, a
+    /// small moment beside large ones lost its digits below eps of the trace: `diag(1e-20, 1,
+    /// 1)` gave 0, and a body built from it was refused for a zero moment.
     #[inline(always)]
     fn canonical(&self, rtol: f64) -> CanonicalLanes<L> {
-        let values = three(|k| lanes(|l| self.a[k][k][l] * self.scale[l] + self.shift[l]));
+        let v = &self.v;
+        let values = three(|k| {
+            lanes(|l| {
+                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                if v[k][k][l] == 1.0 && v[i][k][l] == 0.0 && v[j][k][l] == 0.0 {
+                    self.diagonal[k][l]
+                } else {
+                    self.a[k][k][l] * self.scale[l] + self.shift[l]
+                }
+            })
+        });
         let tolerance = lanes(|l| rtol * self.norm[l]);
         canonical_lanes(values, self.v, &tolerance)
     }
