@@ -176,13 +176,24 @@ struct Sample<'a> {
 }
 
 impl Sample<'_> {
-    /// Writes `quantity` into `out` (its [`Quantity::width`] numbers, or one).
-    fn write(&self, quantity: Quantity, out: &mut [f64], previous: &mut Option<Quaternion<f64>>) {
-        let moments = self.body.moments.moments();
-        let l = match self.rotors {
+    /// The angular momentum in principal axes.
+    fn momentum(&self) -> Vector3<f64> {
+        match self.rotors {
             Some((gyrostat, vars)) => gyrostat.angular_momentum(self.omega, vars),
-            None => moments.component_mul(self.omega),
-        };
+            None => self.body.moments.moments().component_mul(self.omega),
+        }
+    }
+
+    /// Writes `quantity` into `out` (its [`Quantity::width`] numbers, or one); `l` is
+    /// [`Sample::momentum`] (computed once for all the quantities of a sample).
+    fn write(
+        &self,
+        quantity: Quantity,
+        l: &Vector3<f64>,
+        out: &mut [f64],
+        previous: &mut Option<Quaternion<f64>>,
+    ) {
+        let l = *l;
         let to_body = |v: Vector3<f64>| match &self.body.frame {
             Some(frame) => frame.matrix * v,
             None => v,
@@ -247,12 +258,13 @@ impl Rows<'_> {
     /// # Safety
     /// No other `Rows` of the same body `i` is alive (the bodies' ranges are disjoint).
     unsafe fn write(&mut self, j: usize, sample: &Sample) -> Result<()> {
+        let l = sample.momentum();
         for (quantity, &(column, len)) in self.columns.iter().zip(self.shared) {
             let w = quantity.width(self.rotors);
             // SAFETY: body i's range, by the caller's contract.
             let row = unsafe { column.rows(self.i, len) };
             let out = &mut row[j * w..(j + 1) * w];
-            sample.write(*quantity, out, &mut self.previous);
+            sample.write(*quantity, &l, out, &mut self.previous);
             // omega is finite (the integration checks it), but I omega and T can
             // overflow beside it (a torque that drives the motion beyond doubles).
             if let Some(&value) = out.iter().find(|x| !x.is_finite()) {

@@ -121,11 +121,21 @@ impl Monitor {
 
     /// Adds `time` (the time a run advanced since it last reported) to [`Monitor::elapsed`].
     pub fn add_elapsed(&self, time: f64) {
+        self.add_elapsed_runs(time, 1);
+    }
+
+    /// Adds `time` for each of `runs` runs: `runs` additions in one atomic update (the numbers
+    /// of `runs` calls of [`Monitor::add_elapsed`] with nothing between them).
+    pub(crate) fn add_elapsed_runs(&self, time: f64, runs: u32) {
         // A compare-and-swap loop: there is no atomic f64 addition. Called rarely.
         let _ = self
             .elapsed
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |bits| {
-                Some((f64::from_bits(bits) + time).to_bits())
+                let mut elapsed = f64::from_bits(bits);
+                for _ in 0..runs {
+                    elapsed += time;
+                }
+                Some(elapsed.to_bits())
             });
     }
 
@@ -206,9 +216,7 @@ impl<'a> Progress<'a> {
     fn report(&self, monitor: &Monitor, t: f64) {
         let reported = self.reported.get();
         if t > reported {
-            for _ in 0..self.runs.get() {
-                monitor.add_elapsed(t - reported);
-            }
+            monitor.add_elapsed_runs(t - reported, self.runs.get());
             self.reported.set(t);
         }
     }
@@ -224,9 +232,9 @@ impl<'a> Progress<'a> {
     pub(crate) fn finish(&self, t_end: f64) {
         if let Some(monitor) = self.monitor {
             self.report(monitor, t_end);
-            for _ in 0..self.runs.get() {
-                monitor.add_finished();
-            }
+            monitor
+                .finished
+                .fetch_add(u64::from(self.runs.get()), Ordering::Relaxed);
         }
     }
 }
