@@ -391,7 +391,8 @@ def test_a_decoupled_axis_keeps_its_moment_exactly(small):
     """A moment whose axis no rotation touches (a diagonal tensor, or an axis decoupled from a
     rotated block) is exactly its diagonal entry, however small beside the others (here an
     exact eigenvalue by construction). Shifted by trace/3 and back it lost its digits below eps
-    of the trace: diag(1e-20, 1, 1) gave 0, and simulate refused the body for a zero moment."""
+    of the trace: diag(1e-20, 1, 1) gave 0, and simulate refused the body for a zero moment;
+    Body.from_inertia lost it in tr(I) / 2 as well."""
     p = ph.principal(np.diag([1.0, small, 2.0]))
     assert p.moments.tolist() == [small, 1.0, 2.0]
     np.testing.assert_array_equal(np.abs(p.axes), np.eye(3)[:, [1, 0, 2]])
@@ -408,6 +409,11 @@ def test_a_decoupled_axis_keeps_its_moment_exactly(small):
     values, _ = ref.eigh_mp(a)
     np.testing.assert_allclose(p.moments[1:], [float(v) for v in values[1:]], atol=4 * EPS * 2)
     check_eigen(a, p.moments, p.axes)
+    # A body built from the diagonal tensor keeps the small moment to round-off (its second
+    # moments c_k = (I_i + I_j - I_k) / 2 no longer pass through tr(I) / 2, which lost it).
+    body = ph.Body.from_inertia(1.0, np.diag([1.0, small, 1.0]))
+    moments = body.principal().moments
+    np.testing.assert_allclose(moments, [small, 1.0, 1.0], rtol=4 * EPS, atol=0)
     # A body given by the diagonal tensor moves as the one given by its moments.
     times = np.array([0.0, 1.0])
     by_tensor = ph.simulate(np.diag([small, 1.0, 1.0]), [1.0, 0.0, 0.1], times)

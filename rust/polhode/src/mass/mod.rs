@@ -166,9 +166,17 @@ impl MassProperties {
         };
         let half_trace = 0.5 * p.moments.sum();
         let tolerance = 16.0 * f64::EPSILON * half_trace.abs();
-        // Principal second moments c_k = tr(I)/2 - I_k; all must be >= 0 (the triangle
-        // inequality; it implies I >= 0).
-        let c = p.moments.map(|ik| half_trace - ik);
+        // Principal second moments c_k = tr(I)/2 - I_k = (I_i + I_j - I_k)/2; all must be >= 0
+        // (the triangle inequality; it implies I >= 0). With the moments ascending, each is
+        // formed as a difference of the larger two plus the other: c_2 = ((I1 - I2) + I0)/2,
+        // the difference exact (I2 <= 2 I1); through tr(I)/2 a moment below eps of the trace
+        // was lost (`diag(1e-20, 1, 1)` became a body with moments 0, 1, 1).
+        let m = &p.moments;
+        let c = Vector3::new(
+            ((m[2] - m[0]) + m[1]) * 0.5,
+            ((m[2] - m[1]) + m[0]) * 0.5,
+            ((m[1] - m[2]) + m[0]) * 0.5,
+        );
         if p.moments[0] < -tolerance {
             return Err(Error::InvalidInertia {
                 name: "inertia".into(),
