@@ -287,21 +287,27 @@ def _qpow(Q, n):
     return [x * f, y * f, z * f, mp.cos(a)]
 
 
-def midpoint_step_mp(moments, omega0, quat0_xyzw, h, dps=50):
+def midpoint_step_mp(moments, omega0, quat0_xyzw, h, dps=50, torque_body=(0.0, 0.0, 0.0)):
     """One step of the implicit midpoint rule from the definition, at ``dps`` digits: the
-    midpoint ``w_m`` solving ``w_m = w0 + h/2 f(w_m)`` (Euler's equations) by Newton's method
-    with the analytic Jacobian, ``w1 = 2 w_m - w0``; and ``q1`` solving the linear midpoint
-    equation ``q1 = q0 + h (q0 + q1)/2 (x) (0, w_m) / 2`` as a 4x4 linear system (not by the
-    Cayley formula), divided by its norm (the integrator renormalises each step). Returns
+    midpoint ``w_m`` solving ``w_m = w0 + h/2 f(w_m)`` (Euler's equations, with a constant
+    torque ``torque_body`` in body axes) by Newton's method with the analytic Jacobian,
+    ``w1 = 2 w_m - w0``; and ``q1`` solving the linear midpoint equation
+    ``q1 = q0 + h (q0 + q1)/2 (x) (0, w_m) / 2`` as a 4x4 linear system (not by the Cayley
+    formula), divided by its norm (the integrator renormalises each step). Returns
     ``(w1, q1)`` as mpmath numbers."""
     with mp.workdps(dps):
         i1, i2, i3 = (mp.mpf(float(m)) for m in moments)
         c = [(i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3]
         w0 = [mp.mpf(float(x)) for x in omega0]
         k = mp.mpf(float(h)) / 2
+        g = [mp.mpf(float(x)) / i for x, i in zip(torque_body, (i1, i2, i3), strict=True)]
 
         def f(w):
-            return [c[0] * w[1] * w[2], c[1] * w[2] * w[0], c[2] * w[0] * w[1]]
+            return [
+                c[0] * w[1] * w[2] + g[0],
+                c[1] * w[2] * w[0] + g[1],
+                c[2] * w[0] * w[1] + g[2],
+            ]
 
         w = list(w0)
         for _ in range(200):

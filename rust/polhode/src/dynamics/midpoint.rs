@@ -2,8 +2,7 @@
 //! Integration*, IV.2 and VII.5; Austin, Krishnaprasad & Wang 1993).
 //!
 //! `w' = w + h f(t + h/2, w_m, q_m)`, `w_m = (w + w')/2`: the 3x3 equation for `w_m` is solved by
-//! Newton's method to round-off; without a torque, for the increment `z = w_m - w` (see
-//! `free_increment`). The midpoint rule conserves every quadratic invariant of the
+//! Newton's method to round-off, for the increment `z = w_m - w` (see `free_increment`). The midpoint rule conserves every quadratic invariant of the
 //! free body, so `T = 1/2 sum I_i w_i^2` and `|L|^2 = sum I_i^2 w_i^2` are conserved to
 //! round-off. The quaternion equation `q' = 1/2 q (x) (0, w_m)` is linear in `q`, and its
 //! midpoint step is the Cayley transform `q' = q (x) (1 + a)(1 - a)^-1`, `a = (0, h w_m / 4)`,
@@ -316,10 +315,10 @@ fn torque_term<T: Torque + ?Sized, const ATT: bool>(
         .component_mul(&torque.try_torque_body_in(segment, tm, w, &orientation)?))
 }
 
-/// The midpoint value `w_m` under a torque, from `(w0, q)` at time `t`, for a step lying in
-/// `segment`.
+/// The midpoint increment `z = w_m - w0` under a torque, from `(w0, q)` at time `t`, for a
+/// step lying in `segment` (solved for the increment, as [`free_increment`]).
 #[allow(clippy::too_many_arguments)]
-fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
+fn torqued_increment<T: Torque + ?Sized, const ATT: bool>(
     body: &Moments,
     torque: &T,
     segment: &Segment,
@@ -332,12 +331,13 @@ fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
     let k = 0.5 * h;
     let tm = t + k;
     let g0 = torque_term::<T, ATT>(body, torque, segment, t, q, w0, 0.0, evals)?;
-    let mut w = w0 + (body.euler_rhs(w0) + g0) * k;
+    let mut z = (body.euler_rhs(w0) + g0) * k;
     let mut prev = f64::INFINITY;
     let mut torque_jacobian: Option<Mat3> = None;
     for iteration in 0..MAX_ITERATIONS {
+        let w = w0 + z;
         let g = torque_term::<T, ATT>(body, torque, segment, tm, q, &w, h, evals)?;
-        let r = w0 + (body.euler_rhs(&w) + g) * k - w;
+        let r = (body.euler_rhs(&w) + g) * k - z;
         let mut jac = body.euler_jacobian(&w);
         if let Some(jt) = &torque_jacobian {
             for (row, jt_row) in jac.iter_mut().zip(jt) {
@@ -348,10 +348,11 @@ fn torqued_midpoint<T: Torque + ?Sized, const ATT: bool>(
         }
         let d = solve(&jac, k, &r)
             .ok_or_else(|| no_convergence(Some(t), h, "singular Newton matrix"))?;
-        w += d;
+        z += d;
+        let w = w0 + z;
         let dn = d.amax();
         if converged(dn, prev, w.amax().max(w0.amax())) {
-            return Ok(w);
+            return Ok(z);
         }
         if !dn.is_finite() {
             break;
@@ -417,17 +418,9 @@ impl<L: Load, const ORIENTATION: bool> Stepper for Midpoint<'_, L, ORIENTATION> 
     #[inline(always)]
     fn step(&mut self, segment: &Segment, t: f64, y: &mut Vars, h: f64) -> Result<()> {
         let (w, q) = *y;
-        let wm = match self.load.torque() {
-            None => {
-                let w0 = [w[0], w[1], w[2]];
-                let z = free_increment(self.body, &w, h, &mut self.evals)?;
-                if ORIENTATION {
-                    y.1 = cayley_update(&q, &Vector3::from(add(&w0, &z)), h);
-                }
-                y.0 = Vector3::from(add(&w0, &[z[0] * 2.0, z[1] * 2.0, z[2] * 2.0]));
-                return Ok(());
-            }
-            Some(torque) => torqued_midpoint::<_, ORIENTATION>(
+        let z = match self.load.torque() {
+            None => Vector3::from(free_increment(self.body, &w, h, &mut self.evals)?),
+            Some(torque) => torqued_increment::<_, ORIENTATION>(
                 self.body,
                 torque,
                 segment,
@@ -439,9 +432,10 @@ impl<L: Load, const ORIENTATION: bool> Stepper for Midpoint<'_, L, ORIENTATION> 
             )?,
         };
         if ORIENTATION {
-            y.1 = cayley_update(&q, &wm, h);
+            y.1 = cayley_update(&q, &(w + z), h);
         }
-        y.0 = wm * 2.0 - w;
+        // One rounding of the size of w: the increment carries the step.
+        y.0 = w + z * 2.0;
         Ok(())
     }
 
