@@ -250,8 +250,9 @@ pub struct Stats {
     /// Steps rejected by the error control (`Dop853` only).
     pub rejected_steps: u64,
     /// Evaluations of the vector field (for the splitting: of the torque only, the free
-    /// sub-flows being exact; for the midpoint rule: Newton iterations and torque evaluations;
-    /// for `Exact`: evaluations of the closed form, one per output time).
+    /// sub-flows being exact; for the midpoint rule: its fixed-point and Newton iterations
+    /// and torque evaluations; for `Exact`: evaluations of the closed form, one per output
+    /// time).
     pub rhs_evaluations: u64,
 }
 

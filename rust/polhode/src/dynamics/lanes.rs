@@ -590,7 +590,7 @@ struct Midpoint<const ATT: bool> {
     euler: V3,
     /// `|c0| + |c1| + |c2|`, `c` = `euler` (`kc / k` of `midpoint::quadratic_done`).
     csum: X,
-    /// Newton iterations of each lane.
+    /// Fixed-point and Newton iterations of each lane.
     evals: [u64; LANES],
     /// Why each failed lane failed.
     failure: [&'static str; LANES],
@@ -734,7 +734,7 @@ impl<const ATT: bool> Midpoint<ATT> {
         (result, failed | pending)
     }
 
-    /// Adds `iterations` Newton iterations to the lanes of `lanes`.
+    /// Adds `iterations` iterations (fixed-point or Newton) to the lanes of `lanes`.
     #[inline(always)]
     fn count(&mut self, lanes: Mask, iterations: u64) {
         for (l, evals) in self.evals.iter_mut().enumerate() {

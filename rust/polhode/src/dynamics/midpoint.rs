@@ -400,7 +400,7 @@ fn at_time(e: Error, t: f64) -> Error {
 pub(crate) struct Midpoint<'a, L, const ORIENTATION: bool> {
     body: &'a Moments,
     load: L,
-    /// Newton iterations and torque evaluations.
+    /// Fixed-point and Newton iterations, and torque evaluations.
     evals: u64,
 }
 
