@@ -235,6 +235,18 @@ fn gather4(n: usize, x: impl Fn(usize) -> Vector4<f64>) -> V4 {
     v
 }
 
+/// The lanes of each component, as arrays (the shape of the loops over lanes).
+#[inline(always)]
+fn arrays3(v: &V3) -> [[f64; LANES]; 3] {
+    [v[0].lanes(), v[1].lanes(), v[2].lanes()]
+}
+
+/// [`arrays3`] for a quaternion.
+#[inline(always)]
+fn arrays4(v: &V4) -> [[f64; LANES]; 4] {
+    [v[0].lanes(), v[1].lanes(), v[2].lanes(), v[3].lanes()]
+}
+
 /// `(v0^2 + v1^2) + v2^2`: nalgebra's `norm_squared` of a 3-vector.
 #[inline(always)]
 fn norm_squared3(v: &V3) -> X {
@@ -336,13 +348,9 @@ impl<const ATT: bool> LaneStepper for Rk4<ATT> {
     /// `quaternion_rate2`) on arrays, which the compiler vectorises as a whole.
     #[inline(always)]
     fn step(&mut self, (w, q): &mut Vars, h: f64, _live: Mask) -> Mask {
-        let mut wa = [w[0].lanes(), w[1].lanes(), w[2].lanes()];
-        let mut qa = [q[0].lanes(), q[1].lanes(), q[2].lanes(), q[3].lanes()];
-        let e = [
-            self.euler[0].lanes(),
-            self.euler[1].lanes(),
-            self.euler[2].lanes(),
-        ];
+        let mut wa = arrays3(w);
+        let mut qa = arrays4(q);
+        let e = arrays3(&self.euler);
         let half = 0.5 * h;
         let quarter = 0.5 * half;
         let sixth = h / 6.0;
@@ -602,12 +610,8 @@ impl<const ATT: bool> Midpoint<ATT> {
     /// (as rk4's step), which the compiler vectorises lane by lane.
     #[inline(always)]
     fn predictor(&self, w0: &V3, k: f64) -> (V3, Mask) {
-        let c = [
-            self.euler[0].lanes(),
-            self.euler[1].lanes(),
-            self.euler[2].lanes(),
-        ];
-        let w0a = [w0[0].lanes(), w0[1].lanes(), w0[2].lanes()];
+        let c = arrays3(&self.euler);
+        let w0a = arrays3(w0);
         let mut wa = [[0.0; LANES]; 3];
         let mut ran = [0.0; LANES];
         for l in 0..LANES {
@@ -637,13 +641,9 @@ impl<const ATT: bool> Midpoint<ATT> {
     /// same operations on [`X`]s, measured).
     #[inline(always)]
     fn newton_step(&self, w0: &V3, z: &V3, k: f64) -> (V3, Mask, X) {
-        let c = [
-            self.euler[0].lanes(),
-            self.euler[1].lanes(),
-            self.euler[2].lanes(),
-        ];
-        let w0a = [w0[0].lanes(), w0[1].lanes(), w0[2].lanes()];
-        let za = [z[0].lanes(), z[1].lanes(), z[2].lanes()];
+        let c = arrays3(&self.euler);
+        let w0a = arrays3(w0);
+        let za = arrays3(z);
         let mut da = [[0.0; LANES]; 3];
         let mut deta = [0.0; LANES];
         let mut kja = [0.0; LANES];
@@ -768,8 +768,8 @@ impl<const ATT: bool> LaneStepper for Midpoint<ATT> {
             // operations on `X`s, measured).
             let c = 0.25 * h;
             let wm = [w[0] + z[0], w[1] + z[1], w[2] + z[2]];
-            let wa = [wm[0].lanes(), wm[1].lanes(), wm[2].lanes()];
-            let mut qa = [q[0].lanes(), q[1].lanes(), q[2].lanes(), q[3].lanes()];
+            let wa = arrays3(&wm);
+            let mut qa = arrays4(&q);
             for l in 0..LANES {
                 let out = midpoint::cayley(
                     &[qa[0][l], qa[1][l], qa[2][l], qa[3][l]],

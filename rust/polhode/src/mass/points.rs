@@ -591,6 +591,22 @@ fn lanes_max(lanes: &[f64]) -> f64 {
     lanes.iter().fold(0.0, |a, &b| fast_max(a, b))
 }
 
+/// The first `n` rows of the three coordinate columns and of the weights of
+/// [`gram_schmidt_chunk`], each split into blocks of `L` lanes and the rest.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn in_blocks<'a, const L: usize>(
+    cols: &'a [[f64; QR_BLOCK + 4]; 3],
+    weight: &'a [f64; QR_BLOCK + 4],
+    n: usize,
+) -> ([&'a [[f64; L]]; 4], [&'a [f64]; 4]) {
+    let (x8, x_rest) = cols[0][..n].as_chunks::<L>();
+    let (y8, y_rest) = cols[1][..n].as_chunks::<L>();
+    let (z8, z_rest) = cols[2][..n].as_chunks::<L>();
+    let (m8, m_rest) = weight[..n].as_chunks::<L>();
+    ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest])
+}
+
 /// The fast path of one chunk: the same sums and 4x4 factor as [`one_pass_chunk`] (`R^T R` =
 /// the sum of `row row^T` over the rows `[sqrt(m), sqrt(m) (r - r0)]`), or None when the
 /// chunk has a bad point or numbers for which unscaled arithmetic is not safe (see [`SAFE`]);
@@ -645,11 +661,8 @@ where
         let mut lightest = [f64::INFINITY; L];
         let mut farthest = [0.0f64; L];
         {
-            let [c0, c1, c2] = &cols;
-            let (x8, x_rest) = c0[..n].as_chunks::<L>();
-            let (y8, y_rest) = c1[..n].as_chunks::<L>();
-            let (z8, z_rest) = c2[..n].as_chunks::<L>();
-            let (m8, m_rest) = weight[..n].as_chunks::<L>();
+            let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) =
+                in_blocks::<L>(&cols, &weight, n);
             for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
                 for l in 0..L {
                     s0[l] += m[l];
@@ -714,11 +727,8 @@ where
         let mut g0 = [[0.0f64; L]; 3];
         let mut top = [0.0f64; L];
         {
-            let [c0, c1, c2] = &cols;
-            let (x8, x_rest) = c0[..rows].as_chunks::<L>();
-            let (y8, y_rest) = c1[..rows].as_chunks::<L>();
-            let (z8, z_rest) = c2[..rows].as_chunks::<L>();
-            let (m8, m_rest) = weight[..rows].as_chunks::<L>();
+            let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) =
+                in_blocks::<L>(&cols, &weight, rows);
             for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
                 let ma: [f64; L] = std::array::from_fn(|l| m[l] * x[l]);
                 for l in 0..L {
