@@ -419,3 +419,21 @@ def test_a_decoupled_axis_keeps_its_moment_exactly(small):
     by_tensor = ph.simulate(np.diag([small, 1.0, 1.0]), [1.0, 0.0, 0.1], times)
     by_moments = ph.simulate([small, 1.0, 1.0], [1.0, 0.0, 0.1], times)
     np.testing.assert_array_equal(by_tensor.omega, by_moments.omega)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e300, 1e-300])
+@pytest.mark.parametrize("off", [1e-308, 1e-310, 3e-320])
+def test_an_anisotropic_part_below_the_smallest_normal_number(scale, off):
+    """A nearly spherical tensor whose products of inertia are below the smallest normal
+    number relative to its diagonal: its anisotropic part, scaled to entries near 1, was
+    subnormal, and its reciprocal overflowed. principal refused such a tensor for moments that
+    "overflow double precision (the largest is about 1.0e+0)", and Body.from_inertia refused
+    the body. The exact moments are scale * (1 +- off / 1), equal to the last bit: a sphere."""
+    a = scale * np.array([[1.0, off, 0.0], [off, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    for p in (ph.principal(a), ph.principal(a[None])):
+        np.testing.assert_array_equal(np.reshape(p.moments, 3), [scale] * 3)
+        np.testing.assert_array_equal(np.reshape(p.multiplicity, 3), [3, 3, 3])
+        np.testing.assert_array_equal(np.reshape(p.axes, (3, 3)), np.eye(3))
+    if scale == 1.0:
+        body = ph.Body.from_inertia(1.0, a)
+        np.testing.assert_array_equal(body.principal().moments, [1.0, 1.0, 1.0])

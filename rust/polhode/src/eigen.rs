@@ -249,14 +249,27 @@ fn each<T: Copy + Default, const L: usize>(mut f: impl FnMut(usize) -> T) -> [T;
     out
 }
 
+/// A condition lane by lane: all ones where it holds, zero where not (what a vector compare
+/// produces; `[bool; L]` would be packed to bytes and widened again at every use).
+type Mask<const L: usize> = [u64; L];
+
+/// The mask of `f(l)`.
+#[inline(always)]
+fn mask<const L: usize>(mut f: impl FnMut(usize) -> bool) -> Mask<L> {
+    each(|l| u64::from(f(l)).wrapping_neg())
+}
+
+/// Whether any lane of `mask` is set.
+#[inline(always)]
+fn any<const L: usize>(mask: &Mask<L>) -> bool {
+    mask.iter().fold(0, |acc, &m| acc | m) != 0
+}
+
 /// `if mask { yes } else { no }`, lane by lane.
 #[inline(always)]
-fn select<const L: usize>(mask: &[bool; L], yes: &Lane<L>, no: &Lane<L>) -> Lane<L> {
+fn select<const L: usize>(mask: &Mask<L>, yes: &Lane<L>, no: &Lane<L>) -> Lane<L> {
     // On the bits, so that it compiles to a blend in registers (not a masked store).
-    lanes(|l| {
-        let m = u64::from(mask[l]).wrapping_neg();
-        f64::from_bits((yes[l].to_bits() & m) | (no[l].to_bits() & !m))
-    })
+    lanes(|l| f64::from_bits((yes[l].to_bits() & mask[l]) | (no[l].to_bits() & !mask[l])))
 }
 
 /// `2^k` lane by lane, `-1022 <= k <= 1023` (a normal number; built from its bits, so that it
@@ -304,23 +317,14 @@ fn unit<const L: usize>(v: [Lane<L>; 3]) -> [Lane<L>; 3] {
 /// positive, lane by lane.
 #[inline(always)]
 fn signed<const L: usize>(v: [Lane<L>; 3]) -> [Lane<L>; 3] {
-    let sign: Lane<L> = lanes(|l| {
-        let (a0, a1, a2) = (v[0][l].abs(), v[1][l].abs(), v[2][l].abs());
-        let mut largest = v[0][l];
-        let mut size = a0;
-        if a1 > size {
-            largest = v[1][l];
-            size = a1;
-        }
-        if a2 > size {
-            largest = v[2][l];
-        }
-        if largest < 0.0 {
-            -1.0
-        } else {
-            1.0
-        }
-    });
+    let size = three(|k| lanes::<L>(|l| v[k][l].abs()));
+    let is1: Mask<L> = mask(|l| size[1][l] > size[0][l]);
+    let largest = select(&is1, &v[1], &v[0]);
+    let size01 = select(&is1, &size[1], &size[0]);
+    let is2: Mask<L> = mask(|l| size[2][l] > size01[l]);
+    let largest = select(&is2, &v[2], &largest);
+    let negative: Mask<L> = mask(|l| largest[l] < 0.0);
+    let sign = select(&negative, &[-1.0; L], &[1.0; L]);
     three(|k| lanes(|l| v[k][l] * sign[l]))
 }
 
@@ -370,7 +374,8 @@ struct CanonicalLanes<const L: usize> {
     moments: [Lane<L>; 3],
     /// `axes[r][c]`: row `r` of column (axis) `c`.
     axes: [[Lane<L>; 3]; 3],
-    multiplicity: [[u8; L]; 3],
+    /// Each moment's multiplicity, 1 to 3.
+    multiplicity: [[u64; L]; 3],
 }
 
 impl<const L: usize> CanonicalLanes<L> {
@@ -378,7 +383,7 @@ impl<const L: usize> CanonicalLanes<L> {
         Principal {
             moments: Vector3::new(self.moments[0][l], self.moments[1][l], self.moments[2][l]),
             axes: Matrix3::from_fn(|r, c| self.axes[r][c][l]),
-            multiplicity: [0, 1, 2].map(|k| self.multiplicity[k][l]),
+            multiplicity: [0, 1, 2].map(|k| self.multiplicity[k][l] as u8),
         }
     }
 }
@@ -428,7 +433,11 @@ impl<const L: usize> Lanes<L> {
                 squares = lanes(|l| squares[l] + m[r][c][l] * m[r][c][l]);
             }
         }
-        let scale: Lane<L> = lanes(|l| if largest[l] > 0.0 { largest[l] } else { 1.0 });
+        // An anisotropic part below the smallest normal number (subnormal entries, far below
+        // eps of the tensor's own entries near 1) is left unscaled: its reciprocal would
+        // overflow. No rotation then exceeds the threshold, and the moments are the diagonal.
+        let normal: Mask<L> = mask(|l| largest[l] >= f64::MIN_POSITIVE);
+        let scale = select(&normal, &largest, &[1.0; L]);
         let inverse: Lane<L> = lanes(|l| 1.0 / scale[l]);
         for r in 0..3 {
             for c in 0..3 {
@@ -477,12 +486,12 @@ impl<const L: usize> Lanes<L> {
         let (p, q, r) = (P, Q, R);
         let a = &mut self.a;
         let apq = a[p][q];
-        let active: [bool; L] = each(|l| apq[l].abs() > negligible);
+        let active: Mask<L> = mask(|l| apq[l].abs() > negligible);
         // t = tan(theta) = sign(tau) / (|tau| + sqrt(1 + tau^2)) with tau = d / e,
         // multiplied through by |e|: one division fewer on the critical path. Entries
         // are <= 1 after scaling, so d^2 + e^2 cannot overflow, and |e| > eps/8 keeps it
         // from vanishing (an inactive lane computes with e = 1 and is not updated).
-        let e: Lane<L> = lanes(|l| if active[l] { 2.0 * apq[l] } else { 1.0 });
+        let e = select(&active, &lanes(|l| 2.0 * apq[l]), &[1.0; L]);
         let d: Lane<L> = lanes(|l| a[q][q][l] - a[p][p][l]);
         let t: Lane<L> = lanes(|l| {
             1.0f64.copysign(d[l]) * e[l] / (d[l].abs() + (d[l] * d[l] + e[l] * e[l]).sqrt())
@@ -523,16 +532,16 @@ impl<const L: usize> Lanes<L> {
     #[inline(always)]
     fn canonical(&self, rtol: f64) -> CanonicalLanes<L> {
         let v = &self.v;
-        let values = three(|k| {
-            lanes(|l| {
+        let values = three(
+            #[inline(always)]
+            |k| {
                 let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-                if v[k][k][l] == 1.0 && v[i][k][l] == 0.0 && v[j][k][l] == 0.0 {
-                    self.diagonal[k][l]
-                } else {
-                    self.a[k][k][l] * self.scale[l] + self.shift[l]
-                }
-            })
-        });
+                let untouched: Mask<L> =
+                    mask(|l| v[k][k][l] == 1.0 && v[i][k][l] == 0.0 && v[j][k][l] == 0.0);
+                let rotated = lanes(|l| self.a[k][k][l] * self.scale[l] + self.shift[l]);
+                select(&untouched, &self.diagonal[k], &rotated)
+            },
+        );
         let tolerance = lanes(|l| rtol * self.norm[l]);
         canonical_lanes(values, self.v, &tolerance)
     }
@@ -551,7 +560,7 @@ fn canonical_lanes<const L: usize>(
     let mut m = values;
     let mut col = three(|c| [vectors[0][c], vectors[1][c], vectors[2][c]]);
     for (i, j) in [(0, 1), (1, 2), (0, 1)] {
-        let swap: [bool; L] = each(|l| m[j][l] < m[i][l]);
+        let swap: Mask<L> = mask(|l| m[j][l] < m[i][l]);
         let (mi, mj) = (m[i], m[j]);
         m[i] = select(&swap, &mj, &mi);
         m[j] = select(&swap, &mi, &mj);
@@ -561,14 +570,14 @@ fn canonical_lanes<const L: usize>(
             col[j][r] = select(&swap, &ci, &cj);
         }
     }
-    let low: [bool; L] = each(|l| m[1][l] - m[0][l] <= tolerance[l]);
-    let high: [bool; L] = each(|l| m[2][l] - m[1][l] <= tolerance[l]);
+    let low: Mask<L> = mask(|l| m[1][l] - m[0][l] <= tolerance[l]);
+    let high: Mask<L> = mask(|l| m[2][l] - m[1][l] <= tolerance[l]);
 
     // Distinct moments: Gram-Schmidt once (the accumulated rotations leave columns orthogonal
     // only to a few eps per rotation). Skipped when no lane has distinct moments (every lane's
     // axes are then replaced below; a batch of symmetric tops saves the work).
-    let distinct = (0..L).any(|l| !low[l] && !high[l]);
-    let mut axes = if distinct {
+    let distinct: Mask<L> = each(|l| !(low[l] | high[l]));
+    let mut axes = if any(&distinct) {
         let a0 = unit(signed(col[0]));
         let dot: Lane<L> =
             lanes(|l| a0[0][l] * col[1][0][l] + a0[1][l] * col[1][1][l] + a0[2][l] * col[1][2][l]);
@@ -581,30 +590,28 @@ fn canonical_lanes<const L: usize>(
         col
     };
     let mut moments = m;
-    let mut multiplicity = [[1u8; L]; 3];
 
-    let pair: [bool; L] = each(|l| low[l] != high[l]);
-    if pair.iter().any(|&p| p) {
+    let pair: Mask<L> = each(|l| low[l] ^ high[l]);
+    if any(&pair) {
         // A symmetric body: one unique axis `u` and a plane of equal moments.
         let unique = three(|r| select(&low, &col[2][r], &col[0][r]));
         let u = unit(signed(unique));
         // In the plane: the projection of the body axis most perpendicular to `u` (the first
         // such axis on a tie), then the axis that completes a right-handed frame.
         let size = three(|k| lanes::<L>(|l| u[k][l].abs()));
-        let is1: [bool; L] = each(|l| size[1][l] < size[0][l]);
+        let is1: Mask<L> = mask(|l| size[1][l] < size[0][l]);
         let smallest = select(&is1, &size[1], &size[0]);
-        let is2: [bool; L] = each(|l| size[2][l] < smallest[l]);
-        let j: [usize; L] = each(|l| if is2[l] { 2 } else { usize::from(is1[l]) });
+        let is2: Mask<L> = mask(|l| size[2][l] < smallest[l]);
+        // That axis is j = 2 where is2, else 1 where is1, else 0.
+        let is = [
+            each(|l| !(is1[l] | is2[l])),
+            each(|l| is1[l] & !is2[l]),
+            is2,
+        ];
         let uj = select(&is2, &u[2], &select(&is1, &u[1], &u[0]));
         let p1 = three(|k| {
-            lanes::<L>(|l| {
-                let x = -u[k][l] * uj[l];
-                if j[l] == k {
-                    x + 1.0
-                } else {
-                    x
-                }
-            })
+            let x = lanes::<L>(|l| -u[k][l] * uj[l]);
+            select(&is[k], &lanes(|l| x[l] + 1.0), &x)
         });
         let p1 = unit(p1);
         let p2 = cross(&u, &p1);
@@ -627,19 +634,10 @@ fn canonical_lanes<const L: usize>(
             }
             moments[k] = select(&pair, &paired[k], &moments[k]);
         }
-        for l in 0..L {
-            if pair[l] {
-                multiplicity = if low[l] {
-                    set_lane(multiplicity, l, [2, 2, 1])
-                } else {
-                    set_lane(multiplicity, l, [1, 2, 2])
-                };
-            }
-        }
     }
     // A spherical body: the moments' mean and the body's own axes.
-    let sphere: [bool; L] = each(|l| low[l] && high[l]);
-    if sphere.iter().any(|&s| s) {
+    let sphere: Mask<L> = each(|l| low[l] & high[l]);
+    if any(&sphere) {
         let mean: Lane<L> = lanes(|l| (m[0][l] + m[1][l] + m[2][l]) / 3.0);
         for k in 0..3 {
             moments[k] = select(&sphere, &mean, &moments[k]);
@@ -648,30 +646,23 @@ fn canonical_lanes<const L: usize>(
                 axes[k][r] = select(&sphere, &identity, &axes[k][r]);
             }
         }
-        for l in 0..L {
-            if sphere[l] {
-                multiplicity = set_lane(multiplicity, l, [3, 3, 3]);
-            }
-        }
     }
+    // [1, 1, 1] distinct, [2, 2, 1] low, [1, 2, 2] high, [3, 3, 3] a sphere.
+    let (low, high, sphere): ([u64; L], [u64; L], [u64; L]) = (
+        each(|l| low[l] & 1),
+        each(|l| high[l] & 1),
+        each(|l| sphere[l] & 1),
+    );
+    let multiplicity = [
+        each(|l| 1 + low[l] + sphere[l]),
+        each(|l| 1 + (low[l] | high[l]) + sphere[l]),
+        each(|l| 1 + high[l] + sphere[l]),
+    ];
     CanonicalLanes {
         moments,
         axes: three(|r| three(|c| axes[c][r])),
         multiplicity,
     }
-}
-
-/// `multiplicity` with lane `l` set to `value`.
-#[inline(always)]
-fn set_lane<const L: usize>(
-    mut multiplicity: [[u8; L]; 3],
-    l: usize,
-    value: [u8; 3],
-) -> [[u8; L]; 3] {
-    for k in 0..3 {
-        multiplicity[k][l] = value[k];
-    }
-    multiplicity
 }
 
 /// One-sided (Hestenes) Jacobi SVD of a 3x3 factor `f`: the singular values and the right
@@ -961,7 +952,7 @@ fn solve_group<const L: usize>(
         let i = first + l;
         for k in 0..3 {
             m[3 * i + k] = moments[k][l];
-            u[3 * i + k] = i64::from(p.multiplicity[k][l]);
+            u[3 * i + k] = p.multiplicity[k][l] as i64;
         }
         for r in 0..3 {
             for c in 0..3 {
@@ -1002,6 +993,19 @@ mod tests {
         assert!(p.axes.column(2).dot(&unique).abs() > 1.0 - 1e-14);
         assert!((p.axes.determinant() - 1.0).abs() < 1e-14);
         assert!(residual(&a, &p) <= 10.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn an_anisotropic_part_below_the_smallest_normal_is_a_sphere() {
+        // Scaled to entries near 1, the products of inertia were subnormal: their reciprocal
+        // overflowed, and the tensor was refused for moments beyond double precision.
+        for off in [1e-308, 1e-310, 3e-320] {
+            let a = Matrix3::new(1.0, off, 0.0, off, 1.0, 0.0, 0.0, 0.0, 1.0);
+            let p = symmetric_eigen3(&a).unwrap();
+            assert_eq!(p.moments, Vector3::new(1.0, 1.0, 1.0), "off = {off}");
+            assert_eq!(p.multiplicity, [3, 3, 3]);
+            assert_eq!(p.axes, Matrix3::identity());
+        }
     }
 
     #[test]
