@@ -603,3 +603,25 @@ def test_an_exact_output_that_overflows_names_its_quantity_and_time(moments, m):
         ),
     )
     assert "t = 0:" in str(error)
+
+
+@pytest.mark.parametrize("method", ["rk4", "midpoint", "dop853"])
+@pytest.mark.parametrize("batch", [False, True])
+def test_an_integrated_output_that_overflows_names_its_quantity_and_time(method, batch):
+    # As for the exact solution: omega, L in body axes and T are finite, L in space is not.
+    # The rows are written, then checked finite at once; the error still names the quantity
+    # (the first non-finite one in column order), the time and, in a batch, the body.
+    t = np.linspace(0.0, 0.01, 3)
+    moments, omega0 = np.array([1e308, 1e308, 1e308]), np.array([1.0, 0.0, 0.0])
+    if batch:
+        moments = np.stack([(1.0, 2.0, 3.0), moments, (1.0, 2.0, 3.0)])
+        omega0 = np.stack([omega0, omega0, omega0])
+    error = raises(
+        ph.NonFiniteError,
+        "`angular_momentum_space` is -inf",
+        lambda: ph.simulate(
+            moments, omega0, t, method=method, dt=1e-3, orientation0=(0.0, 1.0, 0.0, 0.0)
+        ),
+    )
+    assert "t = 0:" in str(error)
+    assert (error.body == 1) if batch else (error.body is None)

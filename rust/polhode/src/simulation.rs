@@ -184,87 +184,155 @@ impl Sample<'_> {
         }
     }
 
-    /// Writes `quantity` into `out` (its [`Quantity::width`] numbers, or one); `l` is
-    /// [`Sample::momentum`] (computed once for all the quantities of a sample).
-    fn write(
-        &self,
-        quantity: Quantity,
-        l: &Vector3<f64>,
-        out: &mut [f64],
-        previous: &mut Option<Quaternion<f64>>,
-    ) {
-        let l = *l;
-        let to_body = |v: Vector3<f64>| match &self.body.frame {
-            Some(frame) => frame.matrix * v,
-            None => v,
+    /// Every quantity of the sample but the rotors' rates, each computed once: the angular
+    /// velocity and momentum in the body's axes, the energy, and with the orientation, the
+    /// angular momentum in space and the body's quaternion, its sign continuous with
+    /// `previous` (the last quaternion written, updated).
+    fn values(&self, previous: &mut Option<Quaternion<f64>>) -> Values {
+        let l = self.momentum();
+        let (omega, momentum) = match &self.body.frame {
+            Some(frame) => (frame.matrix * self.omega, frame.matrix * l),
+            None => (*self.omega, l),
         };
-        match quantity {
-            Quantity::Omega => out.copy_from_slice(to_body(*self.omega).as_slice()),
-            Quantity::AngularMomentumBody => out.copy_from_slice(to_body(l).as_slice()),
-            Quantity::Energy => {
-                out[0] = match self.rotors {
-                    Some((gyrostat, vars)) => gyrostat.energy(self.omega, vars),
-                    None => 0.5 * self.omega.dot(&l),
-                }
+        let energy = match self.rotors {
+            Some((gyrostat, vars)) => gyrostat.energy(self.omega, vars),
+            None => 0.5 * self.omega.dot(&l),
+        };
+        let oriented = self.orientation.map(|q| {
+            // R_b = R_p V^T.
+            let mut body = match &self.body.frame {
+                Some(frame) => (q * frame.rotation.inverse()).into_inner(),
+                None => q.into_inner(),
+            };
+            // One sign per trajectory: continuous in time.
+            if previous.is_some_and(|p| p.coords.dot(&body.coords) < 0.0) {
+                body = -body;
             }
-            Quantity::RotorRates => {
-                if let Some((gyrostat, vars)) = self.rotors {
-                    for (k, rate) in gyrostat.rotor_rates(self.omega, vars).iter().enumerate() {
-                        out[3 * k..3 * k + 3].copy_from_slice(to_body(*rate).as_slice());
-                    }
-                }
-            }
-            Quantity::AngularMomentumSpace => {
-                if let Some(q) = self.orientation {
-                    out.copy_from_slice((q * l).as_slice());
-                }
-            }
-            Quantity::Quaternion => {
-                if let Some(q) = self.orientation {
-                    // R_b = R_p V^T.
-                    let mut q = match &self.body.frame {
-                        Some(frame) => (q * frame.rotation.inverse()).into_inner(),
-                        None => q.into_inner(),
-                    };
-                    // One sign per trajectory: continuous in time.
-                    if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
-                        q = -q;
-                    }
-                    *previous = Some(q);
-                    out.copy_from_slice(&[q.i, q.j, q.k, q.w]);
-                }
+            *previous = Some(body);
+            (q * l, [body.i, body.j, body.k, body.w])
+        });
+        Values {
+            omega,
+            momentum,
+            energy,
+            oriented,
+        }
+    }
+
+    /// The rotors' rates relative to the body, in the body's axes, into `out` (3 per rotor).
+    fn write_rotor_rates(&self, out: &mut [f64]) {
+        if let Some((gyrostat, vars)) = self.rotors {
+            for (k, rate) in gyrostat.rotor_rates(self.omega, vars).iter().enumerate() {
+                let rate = match &self.body.frame {
+                    Some(frame) => frame.matrix * rate,
+                    None => *rate,
+                };
+                out[3 * k..3 * k + 3].copy_from_slice(rate.as_slice());
             }
         }
     }
 }
 
+/// A sample's quantities (see [`Sample::values`]).
+struct Values {
+    omega: Vector3<f64>,
+    momentum: Vector3<f64>,
+    energy: f64,
+    /// With the orientation: the angular momentum in space and the quaternion (x, y, z, w).
+    oriented: Option<(Vector3<f64>, [f64; 4])>,
+}
+
+impl Values {
+    /// 0 if every number is finite, NaN if not (`x * 0` is 0 for a finite `x` only).
+    fn probe(&self) -> f64 {
+        let mut probe = (self.omega + self.momentum).sum() * 0.0 + self.energy * 0.0;
+        if let Some((space, q)) = &self.oriented {
+            probe += space.sum() * 0.0 + (q[0] + q[1] + q[2] + q[3]) * 0.0;
+        }
+        probe
+    }
+}
+
 /// One body's rows of every column, written output time by output time.
 struct Rows<'a> {
-    /// The body.
-    i: usize,
-    columns: &'a [Quantity],
-    /// Each column, with the numbers per body.
-    shared: &'a [(Column, usize)],
-    rotors: usize,
+    /// Each quantity present (the first `count`), the start of the body's rows in its column
+    /// and its width (numbers per output time), found once per body.
+    targets: [(Quantity, Column, usize); Quantity::ALL.len()],
+    count: usize,
     /// The output times.
     t: &'a [f64],
     /// The last quaternion written (one sign per trajectory).
     previous: Option<Quaternion<f64>>,
 }
 
-impl Rows<'_> {
+impl<'a> Rows<'a> {
+    /// Body `i`'s rows of `columns` (each with its numbers per body in `shared`), for `rotors`
+    /// rotors and the output times `t`.
+    ///
+    /// # Safety
+    /// No other `Rows` of the same body `i` is alive (the bodies' ranges are disjoint), and
+    /// each column holds the rows of body `i`.
+    unsafe fn new(
+        i: usize,
+        columns: &[Quantity],
+        shared: &[(Column, usize)],
+        rotors: usize,
+        t: &'a [f64],
+    ) -> Self {
+        let mut targets = [(Quantity::Omega, Column(std::ptr::null_mut()), 0); Quantity::ALL.len()];
+        for (target, (&q, &(column, len))) in targets.iter_mut().zip(columns.iter().zip(shared)) {
+            // SAFETY: body i's range, by the caller's contract.
+            *target = (q, Column(unsafe { column.0.add(i * len) }), q.width(rotors));
+        }
+        Self {
+            targets,
+            count: columns.len().min(Quantity::ALL.len()),
+            t,
+            previous: None,
+        }
+    }
+
     /// Writes every quantity of `sample`, the state at output time `j`.
     ///
     /// # Safety
     /// No other `Rows` of the same body `i` is alive (the bodies' ranges are disjoint).
     unsafe fn write(&mut self, j: usize, sample: &Sample) -> Result<()> {
-        let l = sample.momentum();
-        for (quantity, &(column, len)) in self.columns.iter().zip(self.shared) {
-            let w = quantity.width(self.rotors);
-            // SAFETY: body i's range, by the caller's contract.
-            let row = unsafe { column.rows(self.i, len) };
-            let out = &mut row[j * w..(j + 1) * w];
-            sample.write(*quantity, &l, out, &mut self.previous);
+        let values = sample.values(&mut self.previous);
+        // Every number is written, then checked finite at once (`x * 0` is 0 for a finite
+        // `x`, NaN otherwise): the columns are looked through only for an error's name.
+        let mut probe = values.probe();
+        for &(quantity, start, w) in &self.targets[..self.count] {
+            // SAFETY: output time j of body i's rows, by the caller's contract.
+            let at = unsafe { start.0.add(j * w) };
+            // SAFETY: the row has the quantity's width; each fixed-size write fills it.
+            unsafe {
+                match (quantity, &values.oriented) {
+                    (Quantity::Omega, _) => at.cast::<[f64; 3]>().write(values.omega.into()),
+                    (Quantity::AngularMomentumBody, _) => {
+                        at.cast::<[f64; 3]>().write(values.momentum.into());
+                    }
+                    (Quantity::Energy, _) => at.write(values.energy),
+                    (Quantity::AngularMomentumSpace, Some((space, _))) => {
+                        at.cast::<[f64; 3]>().write((*space).into());
+                    }
+                    (Quantity::Quaternion, Some((_, q))) => at.cast::<[f64; 4]>().write(*q),
+                    (Quantity::AngularMomentumSpace | Quantity::Quaternion, None) => {}
+                    (Quantity::RotorRates, _) => {
+                        let out = start.rows(j, w);
+                        sample.write_rotor_rates(out);
+                        for x in out.iter() {
+                            probe += x * 0.0;
+                        }
+                    }
+                }
+            }
+        }
+        if probe == 0.0 {
+            return Ok(());
+        }
+        for &(quantity, start, w) in &self.targets[..self.count] {
+            // SAFETY: as above.
+            let out = unsafe { start.rows(j, w) };
             // omega is finite (the integration checks it), but I omega and T can
             // overflow beside it (a torque that drives the motion beyond doubles).
             if let Some(&value) = out.iter().find(|x| !x.is_finite()) {
@@ -961,14 +1029,8 @@ pub fn simulate(
             max_steps: run.max_steps,
             monitor,
         };
-        let mut rows = Rows {
-            i,
-            columns: &columns,
-            shared: &shared,
-            rotors,
-            t,
-            previous: None,
-        };
+        // SAFETY: body i's ranges; every i is visited once.
+        let mut rows = unsafe { Rows::new(i, &columns, &shared, rotors, t) };
         // SAFETY: body i's ranges; every i is visited once.
         unsafe { moments_column.rows(i, 3) }.copy_from_slice(body.moments.moments().as_slice());
         let mut write = |j: usize, sample: Sample| -> Result<()> {
@@ -1067,14 +1129,8 @@ pub fn simulate(
                     // SAFETY: body i's ranges; every i is in one block, once.
                     unsafe { moments_column.rows(*i, 3) }
                         .copy_from_slice(body.moments.moments().as_slice());
-                    Rows {
-                        i: *i,
-                        columns: &columns,
-                        shared: &shared,
-                        rotors,
-                        t,
-                        previous: None,
-                    }
+                    // SAFETY: as above.
+                    unsafe { Rows::new(*i, &columns, &shared, rotors, t) }
                 })
             });
             // A body's first output that overflows: its error, unless its run fails.

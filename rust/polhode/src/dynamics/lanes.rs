@@ -201,17 +201,6 @@ type V4 = [X; 4];
 /// integrates instead) and the raw quaternions `(x, y, z, w)`.
 type Vars = (V3, V4);
 
-/// Lane `l` of `v`.
-#[inline(always)]
-fn lane3(v: &V3, l: usize) -> Vector3<f64> {
-    Vector3::new(v[0].lane(l), v[1].lane(l), v[2].lane(l))
-}
-
-#[inline(always)]
-fn lane4(v: &V4, l: usize) -> Vector4<f64> {
-    Vector4::new(v[0].lane(l), v[1].lane(l), v[2].lane(l), v[3].lane(l))
-}
-
 /// Per-lane vectors (`x(l)` to lane `l` for `l < n`), lanes past `n` repeating lane 0.
 ///
 /// Filled as plain arrays and converted once: a lane set in a vector register's image
@@ -1017,19 +1006,21 @@ fn run_lanes<S: LaneStepper>(
         }
         prev = t;
         let Some(k) = k else { return Ok(()) };
-        let omega = stepper.omega(&y);
+        // The lanes as arrays once (a lane read from a vector's image reloads the vector).
+        let omega = arrays3(&stepper.omega(&y));
         // `driver::unit_output`'s `q / |q|`, in every lane at once.
         let n = norm4(&y.1);
-        let unit = [y.1[0] / n, y.1[1] / n, y.1[2] / n, y.1[3] / n];
+        let unit = arrays4(&[y.1[0] / n, y.1[1] / n, y.1[2] / n, y.1[3] / n]);
         let mut outputs: LaneOutputs = [None; LANES];
         for (l, (out, error)) in outputs.iter_mut().zip(errors.iter_mut()).enumerate() {
             if live >> l & 1 == 0 {
                 continue;
             }
-            let w = lane3(&omega, l);
+            let w = Vector3::new(omega[0][l], omega[1][l], omega[2][l]);
             let checked = check_omega_output(true, times[k], &w).and_then(|()| {
                 if options.with_orientation {
-                    Ok(Some(checked_unit(true, times[k], lane4(&unit, l))?))
+                    let q = Vector4::new(unit[0][l], unit[1][l], unit[2][l], unit[3][l]);
+                    Ok(Some(checked_unit(true, times[k], q)?))
                 } else {
                     Ok(None)
                 }
