@@ -177,6 +177,29 @@ def test_rotated_box_matches_exact_rational_integrals(seed):
     assert rel(body.inertia, rotation @ diag @ rotation.T) <= 1e-14
 
 
+@pytest.mark.parametrize(
+    ("unused", "offset"),
+    [
+        ((1e8, 0.0, 0.0), 0.0),
+        ((1e20, 0.0, 0.0), 0.0),
+        ((0.0, 0.0, 0.0), 1e15),
+        ((3e5, -2e5, 1e7), 7.0),
+    ],
+)
+def test_a_vertex_no_face_uses_changes_nothing(unused, offset):
+    """Mesh files often carry vertices no face uses. They once set the reference point and the
+    scale of the integrals: a unit cube with an unused vertex at 1e8 had its centre of mass
+    off by 3e-3 and I_xx twice I_yy; at 1e20 it was "degenerate", at a 1e15 offset with an
+    unused vertex at the origin "inside out". The exact rational integrals of the cube alone
+    are the reference."""
+    v, f = box_mesh((1.0, 1.0, 1.0), (offset, offset, offset))
+    mass, com, second = exact_mesh(v, f)
+    body = ph.Body.mesh(np.vstack([v, [unused]]), f, density=1.0)
+    assert body.mass == pytest.approx(mass, rel=1e-15)
+    np.testing.assert_allclose(body.center_of_mass, com, rtol=4e-16, atol=1e-15)
+    assert rel(body.inertia, inertia_of(second)) <= 1e-14
+
+
 def test_corner_tetrahedron_matches_the_closed_form():
     # Vertices 0, a e1, b e2, c e3: C_xx = 3/80 M a^2, C_xy = -M a b / 80.
     a, b, c = 1.5, 0.5, 2.0

@@ -446,7 +446,7 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize, monitor: Option<&Monito
     Ok(())
 }
 
-/// The compensated sums over all triangles, about the vertex mean, in units of `2^k`, with
+/// The compensated sums over all triangles, about the mean of the vertices they use, in units of `2^k`, with
 /// that reference point and `k` (vertices are taken as `(v - reference) 2^-k`, of size at most
 /// 1); `None` if the vertices span more than the range of double precision. Looks at `monitor`
 /// before each chunk of triangles.
@@ -460,31 +460,56 @@ fn integrate(
     shell: bool,
     monitor: Option<&Monitor>,
 ) -> Result<Option<(Sums, Vector3<f64>, i32)>> {
-    // The reference point: the vertex mean, summed relative to a vertex of the mesh, in units of
-    // the mesh's extent (so that neither the differences nor their sum overflow).
+    // The reference point: the mean of the vertices the faces use, summed relative to one of
+    // them, in units of their extent (so that neither the differences nor their sum overflow).
+    // A vertex no face uses (common in files) must not move the reference or the scale: one
+    // unused vertex at 1e8 moved the centre of mass of a unit cube by 3e-3.
+    let mut used = vec![false; vertices.len()];
+    for f in faces {
+        for &i in f {
+            used[i as usize] = true;
+        }
+    }
     let anchor = Vector3::from(vertices[faces[0][0] as usize]);
-    let extent = vertices
+    let (extent, count) = vertices
         .par_chunks(CHUNK)
-        .map(|chunk| {
-            chunk.iter().fold(0.0_f64, |m, v| {
-                (0..3).fold(m, |m, k| m.max((v[k] - anchor[k]).abs()))
-            })
+        .zip(used.par_chunks(CHUNK))
+        .map(|(chunk, used)| {
+            chunk
+                .iter()
+                .zip(used)
+                .fold((0.0_f64, 0usize), |(m, n), (v, u)| {
+                    if *u {
+                        let m = (0..3).fold(m, |m, k| m.max((v[k] - anchor[k]).abs()));
+                        (m, n + 1)
+                    } else {
+                        (m, n)
+                    }
+                })
         })
-        .reduce(|| 0.0, f64::max);
+        .reduce(|| (0.0, 0), |a, b| (a.0.max(b.0), a.1 + b.1));
     if !extent.is_finite() {
         return Ok(None);
     }
     let e = exponent(extent);
     let spreads: Vec<Vector3<f64>> = vertices
         .par_chunks(CHUNK)
-        .map(|chunk| {
-            chunk.iter().fold(Vector3::zeros(), |acc, v| {
-                acc + (Vector3::from(*v) - anchor).map(|x| ldexp(x, -e))
-            })
+        .zip(used.par_chunks(CHUNK))
+        .map(|(chunk, used)| {
+            chunk
+                .iter()
+                .zip(used)
+                .fold(Vector3::zeros(), |acc, (v, u)| {
+                    if *u {
+                        acc + (Vector3::from(*v) - anchor).map(|x| ldexp(x, -e))
+                    } else {
+                        acc
+                    }
+                })
         })
         .collect();
     let spread = spreads.iter().fold(Vector3::zeros(), |acc, s| acc + s);
-    let reference = anchor + (spread / vertices.len() as f64).map(|x| ldexp(x, e));
+    let reference = anchor + (spread / count as f64).map(|x| ldexp(x, e));
     // |v - reference| <= 2 extent: vertices in units of 2^k have entries of size <= 1.
     let k = e + 1;
     let reference_scaled = reference.map(|x| ldexp(x, -k));
