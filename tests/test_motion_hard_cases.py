@@ -893,3 +893,31 @@ def test_heavy_top_fixed_step(method, order, dt):
         assert max(l_3) <= 1e-13, l_3
         observed_lz = math.log2(l_z[0] / l_z[1])
         assert observed_lz >= order - 0.5, (l_z, observed_lz)
+
+
+@pytest.mark.parametrize("omega_x0", [0.0, 1e-200])
+@pytest.mark.parametrize(
+    ("torque", "exact"),
+    [
+        # A torque about the x axis from rest: w_x = (1 - cos t) / I_1.
+        (lambda t, w, q: (np.sin(t), 0.0, 0.0), lambda t: (1.0 - np.cos(t)) / 1.0),
+        # A ramp: w_x = t^2 / (2 I_1).
+        (lambda t, w, q: (t, 0.0, 0.0), lambda t: t * t / 2.0),
+        # Nothing until a window opens at t = 1, then 0.5: w_x = 0.5 (t - 1) / I_1.
+        ("window", lambda t: 0.5 * np.maximum(t - 1.0, 0.0)),
+    ],
+    ids=["sine", "ramp", "window"],
+)
+def test_the_default_solver_spins_up_a_body_at_rest(torque, exact, omega_x0):
+    """dop853's default absolute tolerance for w was rtol |w0|, or for a body at rest rtol
+    |w'(t0)| (t_end - t0): 0 for a torque that is zero at t0, and the solver stopped at once
+    ("step size 0 too small"), as it did from w0 = 1e-200 (a scale of 1e-210). It is now taken
+    from the rates the torque gives the body at rest over the run. The reference is the closed
+    form of a torque along a principal axis (the motion stays about that axis)."""
+    if torque == "window":
+        torque = ph.torque.Window(ph.torque.BodyFixed((0.5, 0.0, 0.0)), 1.0, 10.0)
+    t = np.linspace(0.0, 3.0, 7)
+    sol = ph.simulate((1.0, 2.0, 3.0), (omega_x0, 0.0, 0.0), t, torque=torque)
+    assert sol.stats["method"] == "dop853"
+    np.testing.assert_allclose(sol.omega[:, 0], omega_x0 + exact(t), rtol=1e-8, atol=1e-10)
+    np.testing.assert_array_equal(sol.omega[:, 1:], 0.0)

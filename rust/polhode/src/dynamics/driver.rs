@@ -615,15 +615,38 @@ fn run_dop853<S: System<N>, const N: usize>(
     let atol_w = match o.atol {
         Some(atol) => atol,
         None => {
-            // rtol times the scale of w: |w0|, or for a body at rest the change
-            // |w'(t0)| (t_end - t0) that the torque would make.
+            // rtol times the scale of w: |w0|, unless w0 is negligible (a body at rest, or
+            // nearly) beside the change the torque makes over the run, |w'| (t_end - t0) with
+            // |w'| the largest rate of the body at rest (w = 0, its initial orientation) at a
+            // few times of each segment. A torque that is zero at t0 (a ramp, a sine, a window
+            // opening later) made this scale 0 from t0 alone, and the solver stopped at once.
             let w0 = Vector3::new(y0[0], y0[1], y0[2]).norm();
-            if w0 > 0.0 {
+            if options.torque.is_none() && w0 > 0.0 {
+                // Torque-free and turning: w0 is the scale.
                 o.rtol * w0
             } else {
-                let f0 = sys.rhs(&Segment::new(options.t0, ends[0]), options.t0, &y0)?;
-                let span = times.last().map_or(0.0, |t| t - options.t0);
-                o.rtol * Vector3::new(f0[0], f0[1], f0[2]).norm() * span
+                let mut rest = y0;
+                for i in 0..3 {
+                    rest[i] = 0.0;
+                }
+                let mut rate = 0.0_f64;
+                let mut start = options.t0;
+                for &end in ends.iter().take(64) {
+                    let segment = Segment::new(start, end);
+                    for k in 0..4 {
+                        let t = start + (end - start) * (f64::from(k) / 3.0);
+                        let f = sys.rhs(&segment, t, &rest)?;
+                        rate = rate.max(Vector3::new(f[0], f[1], f[2]).norm());
+                    }
+                    start = end;
+                }
+                let change = rate * (t_last - options.t0);
+                o.rtol
+                    * if w0 >= f64::EPSILON * change {
+                        w0
+                    } else {
+                        change
+                    }
             }
         }
     };
