@@ -148,6 +148,15 @@ def test_a_batch_keeps_its_leading_dimension():
         np.testing.assert_array_equal(got[k], single.euler_angles("ZYX"))
 
 
+def test_an_empty_batch_has_no_angles():
+    """N = 0 bodies: angles of shape (0, M, 3) (np.stack of nothing raised), the axes still
+    checked."""
+    sol = ph.simulate((1.0, 2.0, 3.0), np.zeros((0, 3)), [0.0, 1.0])
+    assert sol.euler_angles().shape == (0, 2, 3)
+    with pytest.raises(ph.ArgumentError, match="seq"):
+        sol.euler_angles("ABC")
+
+
 def test_errors():
     sol = ph.simulate((1.0, 2.0, 3.0), (0.1, 1.0, 0.2), 1.0)
     with pytest.raises(ph.ArgumentError, match="seq") as error:

@@ -763,3 +763,14 @@ def test_tensor_input_is_the_body():
     ew, eq = rel_errors(b.omega, b.quaternion, a.omega, a.quaternion)
     assert max(ew.max(), eq.max()) <= 1e-13, (ew, eq)
     np.testing.assert_allclose(b.moments, a.moments, rtol=1e-14)
+
+
+@pytest.mark.parametrize("size", [1e300, 1e-300, 5e-324, 1e308])
+def test_an_orientation_quaternion_of_any_size_is_its_direction(size):
+    """orientation0 is normalised: (1e300, 1e300, 0, 0), whose squared norm overflows, and
+    (1e-300, 1e-300, 0, 0), whose squared norm underflows, were refused as "a non-zero
+    quaternion, got 0". They are the rotation of (1, 1, 0, 0), bit for bit."""
+    moments, omega0, t = (1.0, 2.0, 3.0), (0.3, 1.0, 0.2), [0.0, 1.0]
+    unit = ph.simulate(moments, omega0, t, orientation0=(1.0, 1.0, 0.0, 0.0), method="exact")
+    scaled = ph.simulate(moments, omega0, t, orientation0=(size, size, 0.0, 0.0), method="exact")
+    assert np.array_equal(scaled.quaternion, unit.quaternion)

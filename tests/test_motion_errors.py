@@ -86,6 +86,16 @@ def test_dt_not_positive_or_not_finite(method, dt):
     raises(ph.PolhodeError, "dt", lambda: ph.simulate(MOMENTS, W, 1.0, method=method, dt=dt))
 
 
+@pytest.mark.parametrize("big", [2**63, 2**64, -(2**70)])
+@pytest.mark.parametrize(
+    ("name", "kwargs"), [("max_steps", {}), ("order", {"method": "splitting", "dt": 0.1})]
+)
+def test_an_integer_beyond_64_bits_is_an_argument_error(name, kwargs, big):
+    # Was an untyped OverflowError from the binding ("Python int too large to convert to C
+    # long"), naming no argument.
+    raises(ph.ArgumentError, name, lambda: ph.simulate(MOMENTS, W, 1.0, **kwargs, **{name: big}))
+
+
 @pytest.mark.parametrize("method", FIXED)
 def test_dt_missing_for_a_fixed_step_method(method):
     raises(ph.PolhodeError, ("dt", method), lambda: ph.simulate(MOMENTS, W, 1.0, method=method))

@@ -212,3 +212,17 @@ def test_rtol_admits_rounded_matrices():
     with pytest.raises(InertiaError):
         ph.Body.from_spatial_inertia(lopsided)
     assert ph.Body.from_spatial_inertia(lopsided, rtol=1e-8).mass == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize(
+    "make",
+    [lambda: ph.Body.cylinder(1.0, 1e-160, 1.0), lambda: ph.Body.sphere(1.0, 1e-160)],
+    ids=["needle", "speck"],
+)
+def test_an_inverse_beyond_double_precision_is_an_inertia_error(make):
+    """Moments of 1e-321 have reciprocals beyond the largest double: the inverse was returned
+    with inf and NaN entries (numpy warnings only); it is an InertiaError naming `inverse`,
+    as for a rod's zero moment."""
+    with pytest.raises(ph.InertiaError, match="overflows double precision") as info:
+        make().spatial_inertia(inverse=True)
+    assert info.value.argument == "inverse"

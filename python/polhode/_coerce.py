@@ -146,15 +146,25 @@ def as_rotation_matrix(name: str, rotation: Any) -> NDArray[np.float64]:
     )
 
 
+#: 2^63: the core takes integers as signed 64-bit numbers.
+_I64 = 2**63
+
+
 def as_integer(
     name: str, value: Any, *, allowed: tuple[int, ...] = (), minimum: int | None = None
 ) -> int:
-    """An integer (bool excluded): TypeError for other types, PolhodeError outside the range."""
-    if type(value) is int and not allowed and minimum is None:
+    """An integer (bool excluded) of 64 bits, as the core takes it: TypeError for other types,
+    PolhodeError outside the range."""
+    if type(value) is int and not allowed and minimum is None and -_I64 <= value < _I64:
         return value
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"Expected `{name}` to be an integer, got {type(value).__name__}.")
     result = int(value)
+    if not -_I64 <= result < _I64:
+        raise ArgumentError(
+            f"Expected `{name}` to be a 64-bit integer (below 2^63 in size), got {result}.",
+            argument=name,
+        )
     if allowed and result not in allowed:
         choices = ", ".join(map(str, allowed))
         raise ArgumentError(

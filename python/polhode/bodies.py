@@ -740,13 +740,21 @@ class Body:
                     f"inertia, got {moments.tolist()}: the spatial inertia is singular.",
                     argument="inverse",
                 )
-            inv = (axes / moments) @ axes.T  # I_c^-1 from the principal axes
-            inv = (inv + inv.T) / 2
-            out[:3, :3] = inv
-            out[:3, 3:] = -inv @ cross
-            out[3:, :3] = cross @ inv
-            lower = np.eye(3) / m - cross @ inv @ cross
-            out[3:, 3:] = (lower + lower.T) / 2
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                inv = (axes / moments) @ axes.T  # I_c^-1 from the principal axes
+                inv = (inv + inv.T) / 2
+                out[:3, :3] = inv
+                out[:3, 3:] = -inv @ cross
+                out[3:, :3] = cross @ inv
+                lower = np.eye(3) / m - cross @ inv @ cross
+                out[3:, 3:] = (lower + lower.T) / 2
+            if not np.isfinite(out).all():
+                raise InertiaError(
+                    "The inverse spatial inertia overflows double precision: the smallest "
+                    f"principal moment is {moments[0]:.6g} (mass {m:.6g}, centre of mass "
+                    f"{np.linalg.norm(c):.6g} from the point).",
+                    argument="inverse",
+                )
         if convention == "pinocchio":
             out = np.block([[out[3:, 3:], out[3:, :3]], [out[:3, 3:], out[:3, :3]]])
         return out

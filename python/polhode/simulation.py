@@ -187,10 +187,14 @@ class Trajectory:
                 argument="orientation",
             )
         quaternion = self.quaternion
-        angles = np.stack(
-            [_euler_angles(q, seq) for q in quaternion.reshape(-1, *quaternion.shape[-2:])]
-        )
-        angles = angles.reshape(quaternion.shape[:-1] + (3,))
+        if quaternion.size == 0:
+            # An empty batch: no angles, but the axes still checked.
+            _euler_angles(np.array([[0.0, 0.0, 0.0, 1.0]]), seq)
+            angles = np.zeros(quaternion.shape[:-1] + (3,))
+        else:
+            angles = np.stack(
+                [_euler_angles(q, seq) for q in quaternion.reshape(-1, *quaternion.shape[-2:])]
+            ).reshape(quaternion.shape[:-1] + (3,))
         return np.degrees(angles) if degrees else angles
 
 
@@ -497,12 +501,12 @@ def simulate(
             t0,
             method,
             None if dt is None else as_scalar("dt", dt),
-            order if type(order) is int else as_integer("order", order),
+            as_integer("order", order),
             rtol if type(rtol) is float else as_scalar("rtol", rtol),
             None if atol is None else as_scalar("atol", atol),
             None if torque is None else as_torque(torque),
             orientation,
-            max_steps if type(max_steps) is int else as_integer("max_steps", max_steps),
+            as_integer("max_steps", max_steps),
             callback,
             rotors,
         )

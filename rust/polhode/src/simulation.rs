@@ -593,12 +593,19 @@ pub fn orientation_from_quaternion(name: &str, q: [f64; 4]) -> Result<UnitQuater
             finite(&format!("{name}[{k}]"), *v)?;
         }
     }
-    let q = Quaternion::new(q[3], q[0], q[1], q[2]);
-    if q.norm() == 0.0 || !q.norm().is_finite() {
-        return Err(Error::InvalidArgument {
-            name: name.into(),
-            reason: "expected a non-zero quaternion (x, y, z, w), got 0.".into(),
-        });
+    let mut q = Quaternion::new(q[3], q[0], q[1], q[2]);
+    if !(q.norm() > 0.0 && q.norm().is_finite()) {
+        // Components whose squares over- or underflow (1e300, 1e-300): brought near 1 by a
+        // power of two first, the direction they give unchanged.
+        let largest = q.coords.amax();
+        if largest == 0.0 {
+            return Err(Error::InvalidArgument {
+                name: name.into(),
+                reason: "expected a non-zero quaternion (x, y, z, w), got 0.".into(),
+            });
+        }
+        let e = crate::eigen::exponent(largest);
+        q = Quaternion::from(q.coords.map(|x| crate::eigen::ldexp(x, -e)));
     }
     Ok(UnitQuaternion::from_quaternion(q))
 }
