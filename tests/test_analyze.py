@@ -354,3 +354,15 @@ def test_linearized_rate_of_extreme_moments_does_not_overflow():
     assert a.linearized["rate"] == pytest.approx(1.340781e154 - 1.0, rel=4 * EPS)
     a = ph.analyze([1.0, 2.568133e307, 1.0], [0.0, 0.0, 7.0])
     assert a.linearized == {"axis": 1, "kind": "oscillation", "rate": 0.0}
+
+
+@pytest.mark.parametrize("w", [1e-200, 1e-160, 1e-100, 1.0, 1e150])
+def test_the_linearized_rate_scales_with_omega(w):
+    """About the middle axis the rate is |w| sqrt((I3 - I2)(I2 - I1) / (I1 I3)): w^2 times the
+    ratios underflowed below w = 1e-154 (rate 0 at 1e-200, "growth at rate 0"; 2.4e-4 off at
+    1e-160)."""
+    moments = (1.0, 2.0, 3.0)
+    linearized = ph.analyze(moments, (0.0, w, 0.0)).linearized
+    assert linearized["kind"] == "growth"
+    exact = w * math.sqrt((3.0 - 2.0) * (2.0 - 1.0) / (1.0 * 3.0))
+    assert linearized["rate"] == pytest.approx(exact, rel=4 * np.finfo(float).eps)

@@ -635,3 +635,16 @@ def test_an_integrated_output_that_overflows_names_its_quantity_and_time(method,
     )
     assert "t = 0:" in str(error)
     assert (error.body == 1) if batch else (error.body is None)
+
+
+@pytest.mark.parametrize("call", ["simulate", "analyze"])
+def test_a_moment_without_a_reciprocal_is_named_as_too_small(call):
+    # 1e-310 is finite and positive, but its reciprocal overflows: the error said the body
+    # was not finite ("Expected `body` to be finite, got inf").
+    moments, omega0 = (1e-310, 2.0, 3.0), (0.0, 0.0, 1.0)
+    run = {
+        "simulate": lambda: ph.simulate(moments, omega0, [0.0, 1.0]),
+        "analyze": lambda: ph.analyze(moments, omega0),
+    }[call]
+    error = raises(ph.ArgumentError, "too small for Euler's equations", run)
+    assert error.argument == "body"

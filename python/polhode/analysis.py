@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -357,11 +358,12 @@ def analyze(
     w = omega[k]
     ma, mb, mk = mom[a], mom[b], mom[k]
     # Omega_a Omega_b = w^2 (I_k - I_b) (I_k - I_a) / (I_a I_b), and the rate its square root:
-    # in doubles when the product is one (moments within 1e308 of each other), else from the
-    # two square roots apart; a rate beyond the largest double is an error, not inf. (Python
+    # in doubles when the product is a normal number (moments within 1e308 of each other, w
+    # not below 1e-154), else from the two square roots apart (a product of 1e-400 was 0,
+    # "growth at rate 0"); a rate beyond the largest double is an error, not inf. (Python
     # floats overflow to inf, and inf * 0 is nan, without raising.)
     product = (w * (mk - mb) / ma) * (w * (mk - ma) / mb)
-    if math.isfinite(product):
+    if math.isfinite(product) and abs(product) >= sys.float_info.min:
         rate = math.sqrt(abs(product))
     else:
         rate = abs(w) * (math.sqrt(abs(mk - mb)) / math.sqrt(ma)) * (

@@ -2,7 +2,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3, Vector4};
 
-use crate::error::{finite, positive};
+use crate::error::{finite, positive, Error};
 use crate::Result;
 
 /// The state of a rigid body: angular velocity in body axes and orientation.
@@ -89,7 +89,15 @@ impl Moments {
         let inverse = Vector3::new(1.0 / i1, 1.0 / i2, 1.0 / i3);
         for i in 0..3 {
             if !inverse[i].is_finite() {
-                finite(&format!("1 / moments[{i}]"), inverse[i])?;
+                return Err(Error::InvalidArgument {
+                    name: format!("moments[{i}]"),
+                    reason: format!(
+                        "the moment {:e} is too small for Euler's equations, which need its \
+                         reciprocal: it overflows double precision below about 5.6e-309 \
+                         (express the moments in larger units).",
+                        moments[i]
+                    ),
+                });
             }
         }
         let euler = Vector3::new((i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3);
