@@ -446,9 +446,10 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize, monitor: Option<&Monito
     Ok(())
 }
 
-/// The compensated sums over all triangles, about the mean of the vertices they use, in units of `2^k`, with
-/// that reference point and `k` (vertices are taken as `(v - reference) 2^-k`, of size at most
-/// 1); `None` if the vertices span more than the range of double precision. Looks at `monitor`
+/// The compensated sums over all triangles, about the mean of the vertices they use, in units
+/// of `2^k`, with that reference point and `k` (vertices are taken as `(v - reference) 2^-k`,
+/// of size at most 1 for those the faces use); `None` if those span more than the range of
+/// double precision. Looks at `monitor`
 /// before each chunk of triangles.
 ///
 /// Every parallel sum is a fixed tree: per chunk of [`CHUNK`] items (and per lane within a
