@@ -449,8 +449,7 @@ fn check_closed(faces: &[[i64; 3]], vertex_count: usize, monitor: Option<&Monito
 /// The compensated sums over all triangles, about the mean of the vertices they use, in units
 /// of `2^k`, with that reference point and `k` (vertices are taken as `(v - reference) 2^-k`,
 /// of size at most 1 for those the faces use); `None` if those span more than the range of
-/// double precision. Looks at `monitor`
-/// before each chunk of triangles.
+/// double precision. Looks at `monitor` before each chunk of triangles.
 ///
 /// Every parallel sum is a fixed tree: per chunk of [`CHUNK`] items (and per lane within a
 /// chunk), the chunks' sums then added in order on one thread, lane by lane, and the lanes
