@@ -616,3 +616,33 @@ def test_overflow_messages_are_short():
     message = str(error.value)
     assert re.search(r"\d{20}", message) is None, message
     assert "4.0e+319" in message, message  # the size it would have: 2/5 1e300 (1e10)^2
+
+
+@pytest.mark.parametrize("heavy", [1e121, 1e130, 1e200])
+def test_a_mass_beyond_2_to_the_400_beside_light_ones(heavy):
+    """Masses beyond 2^400 take the scaled path, which centred the rows about the first point:
+    the heavy point's row was the rounding of its offset, weighted by its mass (I = 7.7e96
+    instead of 0.81 for masses 1 and 1e130). The reference is a 60-digit mpmath sum."""
+    rng = np.random.default_rng(7)
+    r = rng.normal(size=(60, 3))
+    m = rng.uniform(0.5, 2.0, 60)
+    m[-1] = heavy
+    body = ph.Body.point_masses(m, r)
+    with mpmath.workdps(60):
+        ms = [mpmath.mpf(float(x)) for x in m]
+        rs = [[mpmath.mpf(float(x)) for x in row] for row in r]
+        total = sum(ms)
+        c = [sum(mi * ri[k] for mi, ri in zip(ms, rs, strict=True)) / total for k in range(3)]
+        second = [
+            [sum(mi * (ri[j] - c[j]) * (ri[k] - c[k]) for mi, ri in zip(ms, rs, strict=True))
+             for k in range(3)]
+            for j in range(3)
+        ]
+        trace = second[0][0] + second[1][1] + second[2][2]
+        inertia = np.array(
+            [[float((trace if j == k else 0) - second[j][k]) for k in range(3)] for j in range(3)]
+        )
+    assert np.abs(body.inertia - inertia).max() <= 1e-14 * np.abs(inertia).max()
+    # Two points, the closed form m M / (m + M) d^2 (0.81 for m = 1, d = 0.9).
+    pair = ph.Body.point_masses([1.0, heavy], [[0.0, 0.0, 0.1], [0.0, 0.0, 1.0]])
+    assert pair.inertia[0, 0] == pytest.approx(0.81, rel=4e-16)
