@@ -282,7 +282,8 @@ impl<'a> Rows<'a> {
         let mut targets = [(Quantity::Omega, Column(std::ptr::null_mut()), 0); Quantity::ALL.len()];
         for (target, (&q, &(column, len))) in targets.iter_mut().zip(columns.iter().zip(shared)) {
             // SAFETY: body i's range, by the caller's contract.
-            *target = (q, Column(unsafe { column.0.add(i * len) }), q.width(rotors));
+            let start = unsafe { column.rows(i, len) }.as_mut_ptr();
+            *target = (q, Column(start), q.width(rotors));
         }
         Self {
             targets,

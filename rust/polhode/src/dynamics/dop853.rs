@@ -302,11 +302,12 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
             });
         }
         let y_new = stages(sys, &segment, t, &y, h, &mut k, &mut stats.rhs_evaluations)?;
-        k[12] = sys.rhs(&segment, t0 + (tau + h), &y_new)?;
+        let reached = tau + h;
+        k[12] = sys.rhs(&segment, t0 + reached, &y_new)?;
         let (tau_new, t_new) = if last {
             (span, t_end)
         } else {
-            (tau + h, t0 + (tau + h))
+            (reached, t0 + reached)
         };
         stats.rhs_evaluations += 1;
         let err = error_norm(&k, &y, &y_new, h, &settings.tol);
