@@ -81,11 +81,29 @@ fn error_norm<const N: usize>(
             e3 += k[j] * E3[j];
         }
     }
-    let (mut err5, mut err3) = (0.0, 0.0);
+    let mut r5 = [0.0; N];
+    let mut r3 = [0.0; N];
+    let mut largest = 0.0_f64;
     for i in 0..N {
         let sc = tol.atol[i] + tol.rtol[i] * y[i].abs().max(y_new[i].abs());
-        err5 += ratio(e5[i], sc).powi(2);
-        err3 += ratio(e3[i], sc).powi(2);
+        r5[i] = ratio(e5[i], sc);
+        r3[i] = ratio(e3[i], sc);
+        largest = largest.max(r5[i].abs()).max(r3[i].abs());
+    }
+    // The measure is homogeneous of degree 1 in (e5, e3): the ratios are scaled by a power of
+    // two to a largest of about 1 before they are squared, and the measure scaled back (the
+    // same bits wherever the squares neither under- nor overflowed). Squared as they were, the
+    // ratios of a slow motion (rates of 1e-180 against tolerances of 1e-10 over steps of
+    // 1e180) underflowed to 0, and every step was accepted however large.
+    let k = if largest.is_finite() {
+        crate::eigen::exponent(largest)
+    } else {
+        0
+    };
+    let (mut err5, mut err3) = (0.0, 0.0);
+    for i in 0..N {
+        err5 += crate::eigen::ldexp(r5[i], -k).powi(2);
+        err3 += crate::eigen::ldexp(r3[i], -k).powi(2);
     }
     if err5 == 0.0 && err3 == 0.0 {
         return 0.0;
@@ -94,7 +112,7 @@ fn error_norm<const N: usize>(
     if deno <= 0.0 {
         deno = 1.0;
     }
-    h.abs() * err5 / (deno * N as f64).sqrt()
+    crate::eigen::ldexp(h.abs() * err5 / (deno * N as f64).sqrt(), k)
 }
 
 /// The 7th-order dense output on `[t, t + h]` (`contd8`).

@@ -9,7 +9,7 @@ use super::monitor::{Monitor, Progress};
 use super::rk4::Rk4;
 use super::splitting::{Splitting, SplittingOrder};
 use super::state::{Moments, State};
-use super::stepper::Stepper;
+use super::stepper::{Stepper, Vars};
 use super::system::{pack, Field, Load, NoTorque, System};
 use super::torque::{Segment, Torque};
 use crate::error::{finite, positive, Short};
@@ -596,12 +596,17 @@ impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
 }
 
 /// The adaptive loop of `Dop853` on the system `sys` from `y0`.
+///
+/// The angular velocity is integrated in units of `scale` (a power of two, 1 but for a
+/// torque-free run scaled by [`run_free`]): `y0`'s and `o.atol` are divided by it, the outputs'
+/// multiplied.
 fn run_dop853<S: System<N>, const N: usize>(
     sys: &S,
     y0: SVector<f64, N>,
     times: &[f64],
     options: &Options,
     o: &Dop853Options,
+    scale: f64,
     col: &mut Collector,
 ) -> Result<Stats> {
     // One solve per segment between torque discontinuities (restarting the method there).
@@ -613,7 +618,7 @@ fn run_dop853<S: System<N>, const N: usize>(
         .collect();
     ends.push(t_last);
     let atol_w = match o.atol {
-        Some(atol) => atol,
+        Some(atol) => atol / scale,
         None => {
             // rtol times the scale of w: |w0|, unless w0 is negligible (a body at rest, or
             // nearly) beside the change the torque makes over the run, |w'| (t_end - t0) with
@@ -676,7 +681,17 @@ fn run_dop853<S: System<N>, const N: usize>(
         tol,
         &ends,
         renormalize,
-        |k, y| output(col, times[k], y),
+        |k, y| {
+            if scale == 1.0 {
+                output(col, times[k], y)
+            } else {
+                let mut y = *y;
+                for i in 0..3 {
+                    y[i] *= scale;
+                }
+                output(col, times[k], &y)
+            }
+        },
     )
 }
 
@@ -827,12 +842,131 @@ fn run<L: Load, const ORIENTATION: bool>(
         Method::Dop853(o) => {
             let field = Field { body, load };
             if ORIENTATION {
-                run_dop853(&field, pack(state0), times, options, &o, col)
+                run_dop853(&field, pack(state0), times, options, &o, 1.0, col)
             } else {
-                run_dop853(&field, state0.omega, times, options, &o, col)
+                run_dop853(&field, state0.omega, times, options, &o, 1.0, col)
             }
         }
         Method::Exact => run_exact(body, state0, times, options, col),
+    }
+}
+
+/// The power of two in whose units a torque-free run from `omega0` integrates its angular
+/// velocity, if its size lies outside `[2^-256, 2^256]`; `None` inside, where the run is the
+/// plain one.
+///
+/// Euler's equations without torque are homogeneous: `w(t) = s u(t)` where `u` solves
+/// `u' = s E(u)` from `w0 / s` (`E` the right-hand side, quadratic) and the quaternion's rate
+/// is `s` times that of `u`. With `s` a power of two, each operation of a step in these units
+/// is the exact image of the plain step's (none under- or overflows); the plain step's
+/// products `c w_j w_k` underflowed to 0 for `|w|` below about 1e-154, so that rk4, the
+/// midpoint rule and dop853 kept `w` constant, and overflowed above about 1e154.
+pub(crate) fn omega_scale(omega0: &Vector3<f64>) -> Option<f64> {
+    let largest = omega0.amax();
+    let k = crate::eigen::exponent(largest);
+    (largest > 0.0 && !(-256..=256).contains(&k)).then(|| crate::eigen::ldexp(1.0, k))
+}
+
+/// A torque-free run: [`run`], or for an angular velocity outside the range of
+/// [`omega_scale`] the same method in units of that scale (rk4, the midpoint rule, dop853;
+/// the splitting's exact sub-flows and the closed form need none).
+fn run_free<const ORIENTATION: bool>(
+    method: &Method,
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    col: &mut Collector,
+) -> Result<Stats> {
+    let scale = match (method, omega_scale(&state0.omega)) {
+        (Method::Rk4 { .. } | Method::Midpoint { .. } | Method::Dop853(_), Some(scale)) => scale,
+        _ => return run::<_, ORIENTATION>(method, body, NoTorque, state0, times, options, col),
+    };
+    let scaled = State {
+        omega: state0.omega / scale,
+        orientation: state0.orientation,
+    };
+    match *method {
+        Method::Rk4 { dt } => {
+            let inner = Rk4::<NoTorque, ORIENTATION>::new(body, NoTorque);
+            let stepper = Scaled { inner, scale };
+            fixed_loop(stepper, dt, &scaled, times, options, col)
+        }
+        Method::Midpoint { dt } => {
+            let inner = Midpoint::<NoTorque, ORIENTATION>::new(body, NoTorque);
+            let stepper = Scaled { inner, scale };
+            fixed_loop(stepper, dt, &scaled, times, options, col)
+        }
+        Method::Dop853(o) => {
+            let field = ScaledField {
+                field: Field {
+                    body,
+                    load: NoTorque,
+                },
+                scale,
+            };
+            if ORIENTATION {
+                run_dop853(&field, pack(&scaled), times, options, &o, scale, col)
+            } else {
+                run_dop853(&field, scaled.omega, times, options, &o, scale, col)
+            }
+        }
+        Method::Splitting { .. } | Method::Exact => unreachable!("run without a scale"),
+    }
+}
+
+/// A torque-free fixed-step method with its angular velocity in units of `scale` (see
+/// [`omega_scale`]): its variables hold `w / scale`, and a step over `h` is the method's step
+/// over `h scale` on them.
+struct Scaled<S> {
+    inner: S,
+    scale: f64,
+}
+
+impl<S: Stepper> Stepper for Scaled<S> {
+    fn vars(&self, state: &State) -> Vars {
+        // The state given is already in units of the scale (see `run_free`).
+        self.inner.vars(state)
+    }
+
+    fn omega(&self, y: &Vars) -> Vector3<f64> {
+        self.inner.omega(y) * self.scale
+    }
+
+    fn step(&mut self, segment: &Segment, t: f64, y: &mut Vars, h: f64) -> Result<()> {
+        self.inner.step(segment, t, y, h * self.scale)
+    }
+
+    fn start(&mut self, y: &Vars) {
+        self.inner.start(y);
+    }
+
+    fn restore(&mut self, y: &mut Vars) {
+        self.inner.restore(y);
+    }
+
+    fn at_time(&self, error: Error, t: f64) -> Error {
+        self.inner.at_time(error, t)
+    }
+
+    fn evaluations(&self, steps: u64) -> u64 {
+        self.inner.evaluations(steps)
+    }
+}
+
+/// The torque-free field with the angular velocity in units of `scale` (see
+/// [`omega_scale`]): the rates of `(w / scale, q)` are `scale` times the field's at them.
+struct ScaledField<'a> {
+    field: Field<'a, NoTorque>,
+    scale: f64,
+}
+
+impl<const N: usize> System<N> for ScaledField<'_>
+where
+    for<'a> Field<'a, NoTorque>: System<N>,
+{
+    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
+        Ok(self.field.rhs(segment, t, y)? * self.scale)
     }
 }
 
@@ -931,8 +1065,8 @@ pub fn integrate_body(
     let mut collector = Collector::new(times.len(), options.with_orientation, fixed_step);
     let col = &mut collector;
     let stats = match (options.torque, orientation) {
-        (None, false) => run::<_, false>(method, body, NoTorque, state0, times, options, col),
-        (None, true) => run::<_, true>(method, body, NoTorque, state0, times, options, col),
+        (None, false) => run_free::<false>(method, body, state0, times, options, col),
+        (None, true) => run_free::<true>(method, body, state0, times, options, col),
         (Some(torque), false) => run::<_, false>(method, body, torque, state0, times, options, col),
         (Some(torque), true) => run::<_, true>(method, body, torque, state0, times, options, col),
     }?;

@@ -49,7 +49,7 @@ mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
-pub(crate) use driver::{check_method, check_times, exact_range, start, start_state};
+pub(crate) use driver::{check_method, check_times, exact_range, omega_scale, start, start_state};
 pub use driver::{
     integrate, integrate_body, Dop853Options, Method, MethodSettings, Options, Stats, Stepping,
     Trajectory, METHODS,
