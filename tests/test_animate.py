@@ -162,6 +162,8 @@ def test_animate_rejects_what_it_cannot_draw(tmp_path, monkeypatch):
         ph.plot.animate(sol, body, frames=[0, 11])
     with pytest.raises(TypeError, match="frames"):
         ph.plot.animate(sol, body, frames=2.5)
+    with pytest.raises(TypeError, match="space_axes"):
+        ph.plot.animate(sol, body, frames=2, space_axes="yes")
     with pytest.raises(ValueError, match=".gif or .mp4"):
         ph.plot.animate(sol, body, frames=2, path=str(tmp_path / "x.txt"))
     import matplotlib.animation

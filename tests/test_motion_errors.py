@@ -215,8 +215,53 @@ def test_times_before_t0(method):
     )
 
 
-def test_end_time_before_t0():
-    raises(ph.PolhodeError, "t", lambda: ph.simulate(MOMENTS, W, -1.0))
+@pytest.mark.parametrize(("end", "t0"), [(-1.0, 0.0), (1.0, 5.0)])
+def test_end_time_before_t0(end, t0):
+    """A scalar end time is named as such: before, the message spoke of t[1] and t[0], the
+    times (t0, t) made of it, which the caller never wrote."""
+    error = raises(
+        ph.ArgumentError, "an end time", lambda: ph.simulate(MOMENTS, W, end, t0=t0)
+    )
+    assert error.argument == "t"
+    assert f"t0 = {t0:g}" in str(error) and "t[" not in str(error)
+
+
+@pytest.mark.parametrize("end", [NAN, INF, -INF])
+def test_end_time_not_finite_names_t(end):
+    error = raises(ph.NonFiniteError, "`t`", lambda: ph.simulate(MOMENTS, W, end))
+    assert error.argument == "t" and "t[" not in str(error)
+
+
+def test_the_trajectory_keeps_its_own_times():
+    """Trajectory.t was the caller's array itself: changing it afterwards changed the
+    trajectory's times."""
+    t = np.linspace(0.0, 1.0, 5)
+    sol = ph.simulate(MOMENTS, W, t)
+    t[:] = -1.0
+    np.testing.assert_array_equal(sol.t, np.linspace(0.0, 1.0, 5))
+
+
+@pytest.mark.parametrize("flag", ["no", 0, 1, None, np.array([True])])
+def test_flags_must_be_bools(flag):
+    """bool("no") is True: a flag given as anything but a bool was read by its truth."""
+    raises(TypeError, "orientation", lambda: ph.simulate(MOMENTS, W, 1.0, orientation=flag))
+    sol = ph.simulate(MOMENTS, W, 1.0)
+    raises(TypeError, "degrees", lambda: sol.euler_angles(degrees=flag))
+    for name in ("depends_on_orientation", "depends_on_omega"):
+        raises(
+            TypeError,
+            name,
+            lambda name=name: ph.torque.Function(lambda t, w, q: (0.0, 0.0, 0.0), **{name: flag}),
+        )
+
+
+def test_numpy_bools_are_flags():
+    a = ph.simulate(MOMENTS, W, 1.0, orientation=np.False_)
+    assert a.quaternion is None
+    sol = ph.simulate(MOMENTS, W, 1.0)
+    np.testing.assert_array_equal(
+        sol.euler_angles(degrees=np.True_), np.degrees(sol.euler_angles())
+    )
 
 
 @pytest.mark.parametrize(

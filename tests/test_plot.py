@@ -113,6 +113,8 @@ def test_polhode_explicit_energies_and_errors():
         plot.polhode([1.0, 2.0, 3.0], 1.0, energies=[5.0])
     with pytest.raises(ValueError, match="ascending"):
         plot.polhode([3.0, 2.0, 1.0])
+    with pytest.raises(TypeError, match="sphere"):
+        plot.polhode([1.0, 2.0, 3.0], sphere="no")
 
 
 def test_herpolhode_in_invariable_plane(traj, tmp_path):

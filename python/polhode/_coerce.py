@@ -17,7 +17,14 @@ from polhode.errors import ArgumentError, NonFiniteError, ShapeError
 #: float64's dtype: numpy keeps one instance of each built-in dtype.
 _FLOAT64 = np.dtype(np.float64)
 
-__all__ = ["as_array", "as_float_array", "as_integer", "as_rotation_matrix", "as_scalar"]
+__all__ = [
+    "as_array",
+    "as_flag",
+    "as_float_array",
+    "as_integer",
+    "as_rotation_matrix",
+    "as_scalar",
+]
 
 
 def _shape_str(shape: tuple[int, ...]) -> str:
@@ -35,6 +42,14 @@ def as_scalar(name: str, value: Any) -> float:
             return float(value)
         raise TypeError(f"Expected `{name}` to be a real number, got {type(value).__name__}.")
     return float(value)
+
+
+def as_flag(name: str, value: Any) -> bool:
+    """True or False (a Python or numpy bool); TypeError naming ``name`` for anything else
+    (``bool("no")`` is True)."""
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"Expected `{name}` to be a bool, got {type(value).__name__}.")
+    return bool(value)
 
 
 def _kind(value: Any) -> str:

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core, _display, _shapes
-from polhode._coerce import as_array, as_rotation_matrix, as_scalar
+from polhode._coerce import as_array, as_flag, as_rotation_matrix, as_scalar
 from polhode.errors import (
     ArgumentError,
     InertiaError,
@@ -85,12 +85,6 @@ def _as_faces(faces: Any) -> NDArray[np.int64]:
             f"Expected `faces` to hold vertex indices, got {int(array.max())}.", argument="faces"
         )
     return np.ascontiguousarray(array, dtype=np.int64)
-
-
-def _as_flag(name: str, value: Any) -> bool:
-    if not isinstance(value, bool | np.bool_):
-        raise TypeError(f"Expected `{name}` to be a bool, got {type(value).__name__}.")
-    return bool(value)
 
 
 class Body:
@@ -173,8 +167,8 @@ class Body:
                 f,
                 None if density is None else as_scalar("density", density),
                 None if mass is None else as_scalar("mass", mass),
-                _as_flag("shell", shell),
-                _as_flag("fix_winding", fix_winding),
+                as_flag("shell", shell),
+                as_flag("fix_winding", fix_winding),
             )
         )
 
@@ -720,8 +714,7 @@ class Body:
                 f"got {convention!r}.",
                 argument="convention",
             )
-        if not isinstance(inverse, bool | np.bool_):
-            raise TypeError(f"Expected `inverse` to be a bool, got {type(inverse).__name__}.")
+        inverse = as_flag("inverse", inverse)
         p = np.zeros(3) if point is None else as_array("point", point, (3,))
         m = self.mass
         c = self.center_of_mass - p

@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._coerce import as_float_array, as_scalar
+from polhode._coerce import as_flag, as_float_array, as_scalar
 from polhode.bodies import Body
 from polhode.errors import (
     ArgumentError,
@@ -322,10 +322,8 @@ def read_mesh(
     """
     path = _fspath(path)
     rho, total = _density_or_mass(density, mass, required=True)
-    if not isinstance(shell, bool | np.bool_):
-        raise TypeError(f"Expected `shell` to be a bool, got {type(shell).__name__}.")
-    if not isinstance(fix_winding, bool | np.bool_):
-        raise TypeError(f"Expected `fix_winding` to be a bool, got {type(fix_winding).__name__}.")
+    as_flag("shell", shell)
+    as_flag("fix_winding", fix_winding)
     factor = _as_scale(scale)
     parts = _mesh_parts(path, factor)
     bodies = {

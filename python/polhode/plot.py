@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode._coerce import as_flag
 from polhode.invariants import angular_momentum_space, relative_drift
 
 if TYPE_CHECKING:
@@ -305,7 +306,7 @@ def polhode(
         energies = _default_energies(m, L * L)
 
     ax = _new_axes("3d") if ax is None else ax
-    if sphere:
+    if as_flag("sphere", sphere):
         u, v = np.mgrid[0 : 2 * np.pi : 25j, 0 : np.pi : 13j]
         ax.plot_wireframe(
             L * np.cos(u) * np.sin(v),
@@ -691,6 +692,7 @@ def animate(
     from polhode.bodies import Body
 
     _single(traj, "animate")
+    space_axes = as_flag("space_axes", space_axes)
     if not isinstance(body, Body):
         raise TypeError(f"Expected `body` to be a polhode.Body, got {type(body).__name__}.")
     if traj.quaternion is None:

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core, _display
-from polhode._coerce import as_array, as_float_array, as_scalar
+from polhode._coerce import as_array, as_flag, as_float_array, as_scalar
 from polhode.errors import PolhodeError, ShapeError
 
 if TYPE_CHECKING:
@@ -191,8 +191,7 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
     >>> bool(np.allclose(p.moments[:, 0], a))   # axis 0 keeps its moment through the crossing
     True
     """
-    if not isinstance(continuous, bool | np.bool_):
-        raise TypeError(f"Expected `continuous` to be a bool, got {type(continuous).__name__}.")
+    continuous = as_flag("continuous", continuous)
     array = as_float_array("inertia", inertia)
     if continuous and array.shape == (3, 3):
         raise ShapeError(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import time
@@ -14,10 +15,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core, _display
+from polhode._coerce import as_flag, as_integer, as_scalar
 from polhode._coerce import as_float_array as _as_float_array
-from polhode._coerce import as_integer, as_scalar
 from polhode.bodies import Body
-from polhode.errors import ArgumentError
+from polhode.errors import ArgumentError, NonFiniteError
 from polhode.rotors import as_rotors
 from polhode.torque import as_torque
 
@@ -180,6 +181,7 @@ class Trajectory:
             raise TypeError(
                 f"Expected `seq` to be a string such as 'ZXZ', got {type(seq).__name__}."
             )
+        degrees = as_flag("degrees", degrees)
         if self.quaternion is None:
             raise ArgumentError(
                 "The trajectory has no orientation (simulated with orientation=False): no Euler "
@@ -481,10 +483,23 @@ def simulate(
         t0 = as_scalar("t0", t0)
     times = _as_float_array("t", t)
     if times.shape == (1,) and np.ndim(t) == 0:
-        times = np.array([t0, float(times[0])])
+        end = float(times[0])
+        if not math.isfinite(end):
+            shown = "NaN" if math.isnan(end) else f"{end}"
+            raise NonFiniteError(f"Expected `t` to be finite, got {shown}.", argument="t")
+        if end < t0 and math.isfinite(t0):
+            # As the end time it is, not as t[1] of the times (t0, t) made of it.
+            raise ArgumentError(
+                f"Invalid `t`: expected an end time >= t0 = {t0:g}, got {end:g}.", argument="t"
+            )
+        times = np.array([t0, end])
+    elif times is t:
+        # The trajectory's own times, not a view the caller may change afterwards.
+        times = times.copy()
     omega = _as_float_array("omega0", omega0)
     rotors = None if rotors is None else as_rotors(rotors)
-    orientation = bool(orientation)
+    if type(orientation) is not bool:
+        orientation = as_flag("orientation", orientation)
     # One body at up to 10^5 output times (at most 14 numbers each) fits in _ALWAYS_FITS.
     if rotors is not None or omega.ndim != 1 or times.size > 100_000:
         _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))

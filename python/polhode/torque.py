@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode._coerce import as_array, as_scalar
+from polhode._coerce import as_array, as_flag, as_scalar
 from polhode.errors import ShapeError
 
 __all__ = [
@@ -342,8 +342,11 @@ class Function(Torque):
         if not callable(function):
             raise TypeError(f"Expected `torque` to be callable, got {type(function).__name__}.")
         object.__setattr__(self, "function", function)
-        object.__setattr__(self, "depends_on_orientation", bool(depends_on_orientation))
-        object.__setattr__(self, "depends_on_omega", bool(depends_on_omega))
+        for name, flag in (
+            ("depends_on_orientation", depends_on_orientation),
+            ("depends_on_omega", depends_on_omega),
+        ):
+            object.__setattr__(self, name, as_flag(name, flag))
         object.__setattr__(
             self,
             "discontinuities",
