@@ -304,6 +304,19 @@ def test_bytes_are_the_arrays_read_and_written():
     m, r = np.ones(n), np.zeros((n, 3))
     assert (m.nbytes + r.nbytes) / n == kernels.BYTES["point_masses"]
 
+
+def test_the_eigensolve_floor_writes_what_principal_returns():
+    """The note's floor (outputs alone) allocates and writes the very arrays a call returns."""
+    from polhode.bench import mass
+
+    n = 16
+    tensors = np.broadcast_to(np.diag([1.0, 2.0, 3.0]), (n, 3, 3)).copy()
+    p = ph.principal(tensors)
+    floor = mass._fresh_outputs(n)
+    returned = (p.moments, p.axes, p.multiplicity)
+    assert [(a.shape, a.dtype) for a in floor] == [(a.shape, a.dtype) for a in returned]
+    assert all(np.all(a == 1) for a in floor)
+
     t = np.linspace(0.0, 1.0, n)
     for key, orientation in (("exact_full", True), ("exact_omega", False)):
         traj = ph.simulate([1.0, 2.0, 3.0], [0.3, 0.5, 0.8], t, orientation=orientation)
