@@ -275,6 +275,44 @@ def test_total_mass_is_shared_by_volume(tmp_path):
     assert ph.Body.from_file(path, mass=9.0).mass == pytest.approx(9.0, rel=1e-15)
 
 
+@pytest.mark.parametrize("scale", [1e-150, 1e-100, 1e-64, 1e62, 1e100, 1e150], ids=str)
+def test_total_mass_at_far_scales_against_the_closed_form(tmp_path, scale):
+    """The parts were integrated at unit density in the scaled units and then given their
+    share of the mass: their volumes underflowed below scale ~1e-60 (a cube of mass 1 at
+    scale 1e-64 was 0.2% off, at 1e-100 its inertia was 0, at 1e-105 the error named
+    `mass_scale`) and overflowed above 1e61. Each part against the textbook box of its share
+    of the mass, at its scaled size and place."""
+    path = tmp_path / "two.obj"
+    sizes = {"small": (0.1, 0.2, 0.3), "large": (0.2, 0.4, 0.6)}  # volumes 1 : 8
+    offsets = {"small": (0.0, 0.0, 0.0), "large": (1.0, -2.0, 0.5)}
+    write_obj(path, [(k, box_vertices(sizes[k], TURN, offsets[k]), CUBE_F) for k in sizes])
+    parts = ph.io.read_mesh(path, mass=9.0, scale=scale)
+    for name, mass in (("small", 1.0), ("large", 8.0)):
+        a, b, c = (x * scale for x in sizes[name])
+        # The textbook box of this mass (its volume is beyond double precision at 1e150).
+        inertia = TURN @ (mass / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b]))
+        inertia = inertia @ TURN.T
+        body = parts[name]
+        assert body.mass == pytest.approx(mass, rel=1e-14)
+        com = np.asarray(offsets[name]) * scale
+        assert np.abs(body.center_of_mass - com).max() <= 1e-14 * scale * 3
+        # Entrywise (a norm would square entries of 1e299).
+        assert np.abs(body.inertia - inertia).max() <= 1e-14 * np.abs(inertia).max()
+    total = ph.Body.from_file(path, mass=9.0, scale=scale)
+    assert total.mass == pytest.approx(9.0, rel=1e-15)
+    # A cube of the same file read directly by Body.mesh (which takes the mass itself).
+    direct = ph.Body.mesh(box_vertices(sizes["small"], TURN) * scale, CUBE_F, mass=1.0)
+    difference = np.abs(parts["small"].inertia - direct.inertia).max()
+    assert difference <= 1e-14 * np.abs(direct.inertia).max()
+
+
+def test_total_mass_beyond_double_precision_names_the_file_and_scale(tmp_path):
+    path = tmp_path / "box.off"
+    write_off(path, box_vertices(SIZE), CUBE_F)
+    with pytest.raises(ph.FileFormatError, match="this scale, the moments of inertia overflow"):
+        ph.Body.from_file(path, mass=1.0, scale=1e160)
+
+
 def test_ascii_stl_with_two_solids(tmp_path):
     path = tmp_path / "two.stl"
     write_stl_ascii(path, CUBE_V, CUBE_F, "first")

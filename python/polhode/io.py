@@ -224,7 +224,8 @@ def _mesh_parts(
         matrix = np.asarray(transform, dtype=float)
         linear = matrix[:3, :3] * scale[:, None]  # the scene's transform, then the scale
         vertices = vertices @ linear.T + matrix[:3, 3] * scale
-        if np.linalg.det(linear) < 0:  # a mirror turns the winding inside out
+        # A mirror turns the winding inside out (the sign alone: det overflows at scale 1e103).
+        if np.linalg.slogdet(linear)[0] < 0:
             faces = np.ascontiguousarray(faces[:, ::-1])
         parts.append((str(node), vertices, faces))
     if not parts:
@@ -326,13 +327,33 @@ def read_mesh(
     as_flag("fix_winding", fix_winding)
     factor = _as_scale(scale)
     parts = _mesh_parts(path, factor)
-    bodies = {
-        name: _mesh_body(path, name, v, f, 1.0 if rho is None else rho, shell, fix_winding)
+    if total is None:
+        return {name: _mesh_body(path, name, v, f, rho, shell, fix_winding) for name, v, f in parts}
+    # The total mass shared by volume (area): each part at unit density in units of 2^k, the
+    # power of two of the largest coordinate (exactly), then its mass scaled to its share and
+    # its lengths by 2^k. At unit density in the file's units the volumes of a mesh scaled by
+    # 1e-100 underflowed (I = 0 for a cube of mass 1), and those scaled by 1e62 overflowed.
+    largest = max(float(np.max(np.abs(v))) for _, v, _ in parts)
+    k = math.frexp(largest)[1] - 1 if largest > 0 else 0
+    unit = {
+        name: _mesh_body(path, name, np.ldexp(v, -k), f, 1.0, shell, fix_winding)
         for name, v, f in parts
     }
-    if total is not None:
-        measure = math.fsum(b.mass for b in bodies.values())
-        bodies = {name: b.scaled(mass_scale=total / measure) for name, b in bodies.items()}
+    measure = math.fsum(b.mass for b in unit.values())
+    bodies = {}
+    for name, b in unit.items():
+        try:
+            bodies[name] = b.scaled(mass_scale=total / measure, length_scale=math.ldexp(1.0, k))
+        except PolhodeError as error:
+            # The core names its own arguments (mass_scale, length_scale): what is out of
+            # range is this part at this mass and scale.
+            reason = re.sub(r"^Invalid `[^`]*`: ", "", error.message)
+            raise FileFormatError(
+                f"{path}: mesh {name!r}: with mass = {total:g} and this scale, {reason}",
+                path=path,
+                link=name,
+                field="scale",
+            ) from error
     return bodies
 
 
