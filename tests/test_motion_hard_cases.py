@@ -988,3 +988,17 @@ def test_dop853_at_rates_far_from_one_against_the_exact_solution(k):
     base = ph.simulate(MOMENTS_SCALED, W_SCALED, T_SCALED, orientation0=Q0, method="dop853")
     # As many steps as at |w| ~ 1 but for the first step's guess (its fallbacks are absolute).
     assert a.stats["steps"] <= 1.2 * base.stats["steps"]
+
+
+@pytest.mark.parametrize("k", [-996, -500])
+def test_dop853_on_a_fast_motion_over_a_tiny_span(k):
+    """Moments of 2^k and |w| of 2^-k: L and T of order 1, rates w' of 2^-2k (1e600 at
+    k = -996: beyond double precision; in units of the scale, 2^-k) over a span of 2^k. Its
+    first step was 0 (the rates over the tolerances overflowed in Hairer's estimate) and the
+    error measure refused every step; both now scale before dividing."""
+    s = 2.0**k
+    moments = tuple(x * s for x in MOMENTS_SCALED)
+    a = ph.simulate(moments, W_SCALED / s, T_SCALED * s, orientation0=Q0, method="dop853")
+    exact = ph.simulate(moments, W_SCALED / s, T_SCALED * s, orientation0=Q0, method="exact")
+    assert np.abs(a.omega - exact.omega).max() * s <= 1e-8
+    assert np.abs(a.quaternion - exact.quaternion).max() <= 1e-8

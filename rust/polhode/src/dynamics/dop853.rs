@@ -81,25 +81,31 @@ fn error_norm<const N: usize>(
             e3 += k[j] * E3[j];
         }
     }
+    // The measure is homogeneous of degree 1 in (e5, e3): they are scaled by a power of two
+    // to a largest of about 1 before they are divided by the tolerances, the ratios again
+    // before they are squared, and the measure scaled back by both (the same bits wherever
+    // nothing under- or overflowed). Squared as they were, the ratios of a slow motion (rates
+    // of 1e-180 against tolerances of 1e-10 over steps of 1e180) underflowed to 0 and every
+    // step was accepted however large; those of a fast one (rates of 1e300 over steps of
+    // 1e-302) overflowed and every step was refused.
+    let binary = |x: f64| {
+        if x.is_finite() {
+            crate::eigen::exponent(x)
+        } else {
+            0
+        }
+    };
+    let ke = binary(e5.amax().max(e3.amax()));
     let mut r5 = [0.0; N];
     let mut r3 = [0.0; N];
     let mut largest = 0.0_f64;
     for i in 0..N {
         let sc = tol.atol[i] + tol.rtol[i] * y[i].abs().max(y_new[i].abs());
-        r5[i] = ratio(e5[i], sc);
-        r3[i] = ratio(e3[i], sc);
+        r5[i] = ratio(crate::eigen::ldexp(e5[i], -ke), sc);
+        r3[i] = ratio(crate::eigen::ldexp(e3[i], -ke), sc);
         largest = largest.max(r5[i].abs()).max(r3[i].abs());
     }
-    // The measure is homogeneous of degree 1 in (e5, e3): the ratios are scaled by a power of
-    // two to a largest of about 1 before they are squared, and the measure scaled back (the
-    // same bits wherever the squares neither under- nor overflowed). Squared as they were, the
-    // ratios of a slow motion (rates of 1e-180 against tolerances of 1e-10 over steps of
-    // 1e180) underflowed to 0, and every step was accepted however large.
-    let k = if largest.is_finite() {
-        crate::eigen::exponent(largest)
-    } else {
-        0
-    };
+    let k = binary(largest);
     let (mut err5, mut err3) = (0.0, 0.0);
     for i in 0..N {
         err5 += crate::eigen::ldexp(r5[i], -k).powi(2);
@@ -112,7 +118,7 @@ fn error_norm<const N: usize>(
     if deno <= 0.0 {
         deno = 1.0;
     }
-    crate::eigen::ldexp(h.abs() * err5 / (deno * N as f64).sqrt(), k)
+    crate::eigen::ldexp(h.abs() * err5 / (deno * N as f64).sqrt(), k + ke)
 }
 
 /// The 7th-order dense output on `[t, t + h]` (`contd8`).
@@ -212,21 +218,40 @@ fn initial_step<S: System<N>, const N: usize>(
     evals: &mut u64,
 ) -> Result<f64> {
     let sk = |i: usize| tol.atol[i] + tol.rtol[i] * y[i].abs();
-    let dnf = scaled_norm(&std::array::from_fn::<f64, N, _>(|i| ratio(f0[i], sk(i))));
-    let dny = scaled_norm(&std::array::from_fn::<f64, N, _>(|i| ratio(y[i], sk(i))));
+    let norm = |v: &SVector<f64, N>| {
+        scaled_norm(&std::array::from_fn::<f64, N, _>(|i| ratio(v[i], sk(i))))
+    };
+    // The logarithm of `norm(v)` where that overflows: rates of 1e300 against tolerances of
+    // 1e-10 (a fast motion over a span of 1e-300), whose first step was 0.
+    let log_norm = |v: &SVector<f64, N>, direct: f64| {
+        if direct.is_finite() {
+            return direct.ln();
+        }
+        let largest = v.amax();
+        if !largest.is_finite() {
+            return f64::INFINITY;
+        }
+        let k = crate::eigen::exponent(largest);
+        let scaled = v.map(|x| crate::eigen::ldexp(x, -k));
+        norm(&scaled).ln() + f64::from(k) * std::f64::consts::LN_2
+    };
+    let dnf = norm(f0);
+    let dny = norm(y);
+    let (log_dnf, log_dny) = (log_norm(f0, dnf), log_norm(y, dny));
     let mut h = if dnf <= 1e-5 || dny <= 1e-5 {
         1e-6 * span
-    } else {
+    } else if dnf.is_finite() {
         (dny / dnf) * 0.01
+    } else {
+        (log_dny - log_dnf + 0.01_f64.ln()).exp()
     };
     h = h.min(hmax);
     let f1 = sys.rhs(segment, t + h, &(y + f0 * h))?;
     *evals += 1;
-    let d2 = scaled_norm(&std::array::from_fn::<f64, N, _>(|i| {
-        ratio(f1[i] - f0[i], sk(i))
-    }));
+    let difference = f1 - f0;
+    let d2 = norm(&difference);
     // log of max(|f1 - f0| / h, |f0|) (scaled by the tolerances): d2 / h may overflow.
-    let log_der12 = (d2.ln() - h.ln()).max(dnf.ln());
+    let log_der12 = (log_norm(&difference, d2) - h.ln()).max(log_dnf);
     let h1 = if log_der12 <= 1e-15_f64.ln() {
         (1e-6 * span).max(h * 1e-3)
     } else {
