@@ -207,6 +207,32 @@ def test_a_batch_is_each_body_alone():
         np.testing.assert_array_equal(batch.energy[k], alone.energy)
 
 
+@pytest.mark.parametrize("k", [-1000, -600, 400])
+def test_free_wheels_at_rates_far_from_one_are_the_scaled_run(k):
+    """Free wheels (no motor torque, no damper, no torque) keep the equations homogeneous:
+    (I, s w, s W) at t is s times (I, w, W) at s t. rk4 gives the same bits (every product the
+    exact image by a power of two), dop853 the same to its tolerance; before, the products of
+    the rates underflowed below about 1e-154 and w stayed constant."""
+    s = 2.0**k
+    t = np.linspace(0.0, 20.0, 5)
+    w0 = np.array([0.3, 1.0, 0.2])
+
+    def run(scale, method):
+        wheel = Wheel([1.0, 1.0, 0.0], inertia=0.1, rate0=0.5 * scale)
+        return ph.simulate(
+            [1.0, 2.0, 3.0], w0 * scale, t / scale, rotors=[wheel], method=method,
+            dt=0.01 / scale,
+        )
+
+    base, a = run(1.0, "rk4"), run(s, "rk4")
+    np.testing.assert_array_equal(a.omega / s, base.omega)
+    np.testing.assert_array_equal(a.rotor_rates / s, base.rotor_rates)
+    np.testing.assert_array_equal(a.quaternion, base.quaternion)
+    base, a = run(1.0, "dop853"), run(s, "dop853")
+    assert np.abs(a.omega / s - base.omega).max() <= 1e-8
+    assert np.abs(a.rotor_rates / s - base.rotor_rates).max() <= 1e-8
+
+
 def test_without_rotors_there_are_no_rotor_rates():
     sol = ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0)
     assert sol.rotor_rates is None

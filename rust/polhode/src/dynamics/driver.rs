@@ -898,8 +898,8 @@ fn run_free<const ORIENTATION: bool>(
             fixed_loop(stepper, dt, &scaled, times, options, col)
         }
         Method::Dop853(o) => {
-            let field = ScaledField {
-                field: Field {
+            let field = ScaledSystem {
+                system: Field {
                     body,
                     load: NoTorque,
                 },
@@ -954,19 +954,17 @@ impl<S: Stepper> Stepper for Scaled<S> {
     }
 }
 
-/// The torque-free field with the angular velocity in units of `scale` (see
-/// [`omega_scale`]): the rates of `(w / scale, q)` are `scale` times the field's at them.
-struct ScaledField<'a> {
-    field: Field<'a, NoTorque>,
-    scale: f64,
+/// A torque-free field, homogeneous of degree 2 in its rates (the angular velocity, and a
+/// gyrostat's free wheels), with the rates in units of `scale` (see [`omega_scale`]): the
+/// derivatives of `(w / scale, q, ...)` are `scale` times the field's at them.
+pub(crate) struct ScaledSystem<S> {
+    pub(crate) system: S,
+    pub(crate) scale: f64,
 }
 
-impl<const N: usize> System<N> for ScaledField<'_>
-where
-    for<'a> Field<'a, NoTorque>: System<N>,
-{
+impl<S: System<N>, const N: usize> System<N> for ScaledSystem<S> {
     fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
-        Ok(self.field.rhs(segment, t, y)? * self.scale)
+        Ok(self.system.rhs(segment, t, y)? * self.scale)
     }
 }
 

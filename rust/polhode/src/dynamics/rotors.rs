@@ -36,7 +36,8 @@ use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
 use super::dop853::Tolerance;
 use super::driver::{
-    check_method, check_times, dop853_segments, segments, substeps, Method, Options, Stats,
+    check_method, check_times, dop853_segments, omega_scale, segments, substeps, Method, Options,
+    ScaledSystem, Stats,
 };
 use super::monitor::{Monitor, Progress};
 use super::state::{quaternion_rate, State};
@@ -473,6 +474,20 @@ impl Gyrostat {
         t
     }
 
+    /// Whether the rotors are wheels without motor torque (no dampers): the equations are then
+    /// homogeneous of degree 2 in the body's and the wheels' rates.
+    fn is_free(&self) -> bool {
+        self.rotors.iter().all(|rotor| {
+            matches!(
+                rotor,
+                Rotor::Wheel {
+                    motor: MotorTorque::Constant(g),
+                    ..
+                } if *g == 0.0
+            )
+        })
+    }
+
     /// Each rotor's angular velocity relative to the body, principal axes: `W a` for a wheel,
     /// `s - w` for a damper.
     #[must_use]
@@ -683,8 +698,24 @@ fn run<const N: usize>(
                 .into(),
         });
     }
+    // Without a torque, motors or dampers the equations are homogeneous of degree 2 in the
+    // rates (w and the wheels' momenta): far from 1 they are integrated in units of a power of
+    // two, as a rigid body's (see `driver::omega_scale`); at |w| ~ 1e-160 the products of the
+    // rates underflowed and w stayed constant. Otherwise the unit is 1 (the same bits).
+    let rates = gyrostat.rotor_rates(&state0.omega, &vars0);
+    let size = rates
+        .iter()
+        .fold(state0.omega.amax(), |a, r| a.max(r.amax()));
+    let scale = if options.torque.is_none() && gyrostat.is_free() {
+        omega_scale(&Vector3::new(size, 0.0, 0.0)).unwrap_or(1.0)
+    } else {
+        1.0
+    };
+    for i in 0..3 {
+        y0[i] /= scale;
+    }
     for (i, v) in vars0.into_iter().enumerate() {
-        y0[7 + i] = v;
+        y0[7 + i] = v / scale;
     }
     let mut out = GyrostatTrajectory {
         omega: Vec::with_capacity(times.len()),
@@ -693,6 +724,10 @@ fn run<const N: usize>(
         stats: Stats::default(),
     };
     let mut push = |t: f64, y: &SVector<f64, N>| -> Result<()> {
+        let mut y = *y;
+        for i in (0..3).chain(7..7 + k) {
+            y[i] *= scale;
+        }
         if let Some((i, v)) = y.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(Error::NonFinite {
                 name: format!(
@@ -716,9 +751,12 @@ fn run<const N: usize>(
         out.variables.extend_from_slice(&y.as_slice()[7..7 + k]);
         Ok(())
     };
-    let field = Field {
-        gyrostat,
-        torque: options.torque,
+    let field = ScaledSystem {
+        system: Field {
+            gyrostat,
+            torque: options.torque,
+        },
+        scale,
     };
     let mut breaks = options
         .torque
@@ -732,7 +770,8 @@ fn run<const N: usize>(
         Method::Rk4 { dt } => fixed_rk4(&field, dt, y0, times, options, &breaks, |k, y| {
             push(times[k], y)
         })?,
-        Method::Dop853(o) => {
+        Method::Dop853(mut o) => {
+            o.atol = o.atol.map(|atol| atol / scale);
             let tolerance = tolerance(gyrostat, &field, &y0, times, options, &o, &breaks)?;
             adaptive(
                 &field,
