@@ -153,6 +153,20 @@ def test_spin_with_a_damper_shows_the_major_axis_rule(tmp_path, capsys):
     assert _after(out, "e-folding time") == pytest.approx(1 / rate, rel=1e-5)
 
 
+@pytest.mark.parametrize(
+    ("omega", "damping"), [(("1", "0.5", "0.1"), "0"), (("0", "0", "0"), "0.5")],
+    ids=["no damping", "no spin"],
+)
+def test_spin_with_a_steady_damper(capsys, omega, damping):
+    """A damper without damping, or a body at rest: the nutation rate is 0 and has no time
+    constant; the report stopped there with an AssertionError and a traceback."""
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", *omega, "--t", "1",
+            "--damper", "0.1", damping]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "nutation rate      0   (the damper's, linearised: steady)" in out
+
+
 def test_spin_with_a_wheel_and_a_body(capsys):
     """--body with --wheel: the body's axes are its own; a wheel spun up from rest by its motor
     turns the body the other way, H = 0 throughout: w3 = -g t / (I3 - J) about the

@@ -624,8 +624,10 @@ def _spin(args: argparse.Namespace) -> int:
     if rotors:
         print("(the regime, period and precession above are those of the free body with its")
         print(" rotors locked, at t = 0; the rotors change the motion)")
-        if a.nutation_rate is not None:
-            assert a.nutation_time_constant is not None
+        if a.nutation_rate is not None and a.nutation_time_constant is None:
+            # No spin, or a damper without damping: nothing decays or grows.
+            print(f"nutation rate      {a.nutation_rate:.9g}   (the damper's, linearised: steady)")
+        elif a.nutation_rate is not None:
             print(
                 f"nutation rate      {a.nutation_rate:.9g}   (the damper's, linearised: "
                 f"{'decays' if a.nutation_rate < 0 else 'grows'}, e-folding time "

@@ -215,12 +215,13 @@ def nutation_rate(body: Any, omega0: Any, damper: SphericalDamper) -> float:
 
     For a body symmetric about the spin axis the rate is in closed form (``docs/rotors.md``):
     with ``A_t = I_t - J``, ``A_s = I_s - J`` (the moments without the sphere's spinning
-    inertia), ``l = w (A_s - A_t) / A_t``, ``k = c / J`` and ``m = c / A_t``, the nutation is the
-    root near ``i l`` of ``s^2 + (i (w - l) + k + m) s + l w - i l k = 0``; for weak coupling
-    (``c / J`` well below ``w I_s / I_t``) ``rate = -c (A_s - A_t) / (A_s A_t)``, the energy-sink
-    estimate (Likins, JPL TR 32-860, 1966; Hughes 1986). Otherwise it is the largest real part
-    of the eigenvalues of the motion (body and sphere) linearised about the spin, the modes of
-    the steady family (zero eigenvalues) left out.
+    inertia), ``l = w (A_s - A_t) / A_t``, ``k = c / J`` and ``m = c / A_t``, the rate is the
+    larger real part of the two roots of ``s^2 + (i (w - l) + k + m) s + l w - i l k = 0``: for
+    weak coupling (``c / J`` well below ``w I_s / I_t``) the nutation's, the root near ``i l``,
+    with ``rate = -c (A_s - A_t) / (A_s A_t)``, the energy-sink estimate (Likins, JPL TR 32-860,
+    1966; Hughes 1986); with a heavy sphere the sphere's own mode. Otherwise it is the largest
+    real part of the eigenvalues of the motion (body and sphere) linearised about the spin, the
+    modes of the steady family (zero eigenvalues) left out.
 
     Parameters
     ----------
@@ -272,8 +273,11 @@ def nutation_rate(body: Any, omega0: Any, damper: SphericalDamper) -> float:
         kappa, mu = c / j, c / a_t
         half = 0.5 * (1j * (spin - ell) + kappa + mu)
         root = np.sqrt(half * half - (ell * spin - 1j * ell * kappa))
-        s = min((-half + root, -half - root), key=lambda x: abs(x - 1j * ell))
-        return float(s.real)
+        # The slower of the two modes: the nutation (the root near i l) under weak coupling;
+        # with a heavy sphere (J above about 2 I_t - I_s) the sphere's own mode is slower, and
+        # taking the nutation's gave a rate 8x too fast (the general branch, 1e-9 away, was
+        # right).
+        return float(max((-half + root).real, (-half - root).real))
     a_mat = np.diag(moments - j)
     w0 = np.zeros(3)
     w0[k] = spin
