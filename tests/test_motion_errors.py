@@ -459,6 +459,25 @@ BAD_MODELS = [
         "center_of_mass",
     ),
     (
+        # A body hinged at two points: the moments about the first pivot were used for both,
+        # and the sum's motion depended on the order of its terms.
+        "Gravity-two-pivots",
+        lambda: ph.torque.Gravity(pivot=(0, 0, 0.03)) + ph.torque.Gravity(pivot=(0, 0, 0)),
+        ph.ArgumentError,
+        "pivot",
+    ),
+    (
+        "Gravity-two-pivots-in-a-window",
+        lambda: ph.torque.Sum(
+            [
+                ph.torque.Window(ph.torque.Gravity(pivot=(0, 0, 0.03)), 0.0, 1.0),
+                ph.torque.Sum([ph.torque.BodyFixed((0, 0, 1)), ph.torque.Gravity()]),
+            ]
+        ),
+        ph.ArgumentError,
+        "pivot",
+    ),
+    (
         "GravityGradient-nan",
         lambda: ph.simulate(MOMENTS, W, 1.0, torque=ph.torque.GravityGradient(NAN)),
         ph.PolhodeError,
@@ -488,6 +507,17 @@ BAD_MODELS = [
 )
 def test_bad_torque_model(label, call, kind, name):
     raises(kind, name, call)
+
+
+def test_gravity_terms_with_one_pivot_add_up():
+    """Two Gravity terms about the same pivot (the default's origin given or not) are one of
+    twice the field."""
+    top = ph.Body.cone(0.1, 0.04, 0.03)
+    g = np.array([0.0, 0.0, -4.905])
+    pair = ph.torque.Gravity(g, pivot=(0, 0, 0)) + ph.torque.Gravity(g)
+    a = ph.simulate(top, (1.0, 2.0, 5.0), [0.0, 1.0], torque=pair, rtol=1e-12)
+    b = ph.simulate(top, (1.0, 2.0, 5.0), [0.0, 1.0], torque=ph.torque.Gravity(2 * g), rtol=1e-12)
+    np.testing.assert_allclose(a.omega, b.omega, rtol=1e-9, atol=1e-12)
 
 
 def test_adding_a_non_torque():

@@ -4,7 +4,7 @@
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use super::{finite_vector, Segment, Torque};
-use crate::error::{finite, positive};
+use crate::error::{finite, positive, Short};
 use crate::{Error, Result};
 
 /// A torque constant in body axes.
@@ -753,8 +753,40 @@ impl TorqueSpec {
                 torque.check()?;
                 Window::new(BodyFixed::new(Vector3::zeros())?, *start, *end).map(|_| ())
             }
-            TorqueSpec::Sum(terms) => terms.iter().try_for_each(TorqueSpec::check),
+            TorqueSpec::Sum(terms) => {
+                terms.iter().try_for_each(TorqueSpec::check)?;
+                // One body, one pivot: the moments are taken about the first Gravity's, so a
+                // second pivot made the sum depend on the order of its terms.
+                let mut pivots = Vec::new();
+                self.pivots(&mut pivots);
+                match pivots.iter().find(|p| **p != pivots[0]) {
+                    Some(other) => Err(Error::InvalidArgument {
+                        name: "pivot".into(),
+                        reason: format!(
+                            "a sum of torques turns the body about one pivot, but its Gravity \
+                             terms have pivots ({}, {}, {}) and ({}, {}, {}).",
+                            Short(pivots[0].x),
+                            Short(pivots[0].y),
+                            Short(pivots[0].z),
+                            Short(other.x),
+                            Short(other.y),
+                            Short(other.z)
+                        ),
+                    }),
+                    None => Ok(()),
+                }
+            }
             other => other.build(&unit).map(|_| ()),
+        }
+    }
+
+    /// The pivot of every [`TorqueSpec::Gravity`] in the torque, in order.
+    fn pivots(&self, out: &mut Vec<Vector3<f64>>) {
+        match self {
+            TorqueSpec::Gravity { pivot, .. } => out.push(pivot.unwrap_or_else(Vector3::zeros)),
+            TorqueSpec::Window { torque, .. } => torque.pivots(out),
+            TorqueSpec::Sum(terms) => terms.iter().for_each(|t| t.pivots(out)),
+            _ => {}
         }
     }
 
