@@ -1002,3 +1002,23 @@ def test_dop853_on_a_fast_motion_over_a_tiny_span(k):
     exact = ph.simulate(moments, W_SCALED / s, T_SCALED * s, orientation0=Q0, method="exact")
     assert np.abs(a.omega - exact.omega).max() * s <= 1e-8
     assert np.abs(a.quaternion - exact.quaternion).max() <= 1e-8
+
+
+def test_the_default_tolerance_does_not_call_the_torque_at_rest():
+    """dop853's default atol sampled the torque at the body at rest (w = 0), where a drag of
+    constant size -k w / |w| is NaN: a valid run failed with an error at t = 0. The samples are
+    now the initial state. Reference: on a sphere the drag keeps the direction of w and takes
+    k / I off its size per unit time."""
+    seen = []
+
+    def drag(t, w, q):
+        seen.append(np.array(w, dtype=float))
+        return -0.1 * np.asarray(w) / np.linalg.norm(w)
+
+    w0 = np.array([0.3, 0.5, -0.2])
+    t = np.linspace(0.0, 1.0, 5)
+    sol = ph.simulate((2.0, 2.0, 2.0), w0, t, torque=drag)
+    assert sol.stats["method"] == "dop853"
+    expected = w0[None, :] * (1.0 - 0.1 * t[:, None] / (2.0 * np.linalg.norm(w0)))
+    np.testing.assert_allclose(sol.omega, expected, rtol=1e-8, atol=0)
+    assert not any(np.all(w == 0.0) for w in seen)

@@ -622,26 +622,30 @@ fn run_dop853<S: System<N>, const N: usize>(
         None => {
             // rtol times the scale of w: |w0|, unless w0 is negligible (a body at rest, or
             // nearly) beside the change the torque makes over the run, |w'| (t_end - t0) with
-            // |w'| the largest rate of the body at rest (w = 0, its initial orientation) at a
-            // few times of each segment. A torque that is zero at t0 (a ramp, a sine, a window
-            // opening later) made this scale 0 from t0 alone, and the solver stopped at once.
+            // |w'| the largest rate of the initial state (w0, q0) at a few times of each
+            // segment. A torque that is zero at t0 (a ramp, a sine, a window opening later)
+            // made this scale 0 from t0 alone, and the solver stopped at once. The samples are
+            // the initial state at other times, not states of the motion: one the torque
+            // refuses (an error, or not finite) is left out, and the run itself meets the
+            // torque's errors at its own states. They used to be the body at rest, where a drag
+            // -w / |w| is NaN: a valid run failed with an error at t = 0.
             let w0 = Vector3::new(y0[0], y0[1], y0[2]).norm();
             if options.torque.is_none() && w0 > 0.0 {
                 // Torque-free and turning: w0 is the scale.
                 o.rtol * w0
             } else {
-                let mut rest = y0;
-                for i in 0..3 {
-                    rest[i] = 0.0;
-                }
                 let mut rate = 0.0_f64;
                 let mut start = options.t0;
                 for &end in ends.iter().take(64) {
                     let segment = Segment::new(start, end);
                     for k in 0..4 {
                         let t = start + (end - start) * (f64::from(k) / 3.0);
-                        let f = sys.rhs(&segment, t, &rest)?;
-                        rate = rate.max(Vector3::new(f[0], f[1], f[2]).norm());
+                        if let Ok(f) = sys.rhs(&segment, t, &y0) {
+                            let size = Vector3::new(f[0], f[1], f[2]).norm();
+                            if size.is_finite() {
+                                rate = rate.max(size);
+                            }
+                        }
                     }
                     start = end;
                 }
