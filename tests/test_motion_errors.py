@@ -579,10 +579,39 @@ def test_callable_returning_the_wrong_shape(value):
 
 
 @pytest.mark.parametrize(
-    "value", [None, "abc", {"x": 1}, ["a", "b", "c"]], ids=["None", "str", "dict", "strs"]
+    "value",
+    [
+        None,
+        "abc",
+        {"x": 1},
+        ["a", "b", "c"],
+        # numpy's own conversion read these silently: the real part of complex numbers, digit
+        # strings and dates as numbers, None as NaN ("got NaN"), the data under a mask.
+        np.array([0.0, 0.0, 1j]),
+        ["0", "0", "1"],
+        np.array(["2020-01-01"] * 3, dtype="datetime64[D]"),
+        [0.0, None, 1.0],
+        np.ma.masked_array([0.0, 0.0, 1.0], mask=[False, True, False]),
+    ],
+    ids=["None", "str", "dict", "strs", "complex", "digits", "dates", "None-inside", "masked"],
 )
 def test_callable_returning_the_wrong_type(value):
     raises(TypeError, "torque", lambda: ph.simulate(MOMENTS, W, 1.0, torque=lambda t, w, q: value))
+
+
+def test_callable_returning_real_numbers_of_any_kind():
+    """Fractions, numpy scalars of any width, tuples and a mask with nothing masked are
+    numbers: the same motion as floats."""
+    from fractions import Fraction
+
+    expected = ph.simulate(MOMENTS, W, 1.0, torque=lambda t, w, q: (0.5, 0.0, 0.25))
+    for value in (
+        [Fraction(1, 2), 0, Fraction(1, 4)],
+        np.array([0.5, 0.0, 0.25], dtype=np.float32),
+        np.ma.masked_array([0.5, 0.0, 0.25]),
+    ):
+        sol = ph.simulate(MOMENTS, W, 1.0, torque=lambda t, w, q, v=value: v)
+        np.testing.assert_array_equal(sol.omega, expected.omega)
 
 
 @pytest.mark.parametrize("method", ["dop853", *FIXED])

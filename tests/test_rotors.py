@@ -300,6 +300,17 @@ def test_wrong_types_and_raising_functions():
     with pytest.raises(ph.NonFiniteError, match="torque"):
         ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0,
                     rotors=[Wheel([0.0, 0.0, 1.0], 0.1, torque=lambda t, w, r: np.inf)])
+    # Not real numbers: TypeError naming the torque (were a bare ValueError or float()'s own
+    # TypeError); an integer beyond double precision is not finite (was OverflowError).
+    for value in (np.array("a"), np.array(1j), np.array(None, dtype=object), 1j, True):
+        with pytest.raises(TypeError, match="torque"):
+            ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0,
+                        rotors=[Wheel([0.0, 0.0, 1.0], 0.1, torque=lambda t, w, r, v=value: v)])
+    with pytest.raises(ph.NonFiniteError, match="torque"):
+        ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0,
+                    rotors=[Wheel([0.0, 0.0, 1.0], 0.1, torque=lambda t, w, r: 10**400)])
+    with pytest.raises(TypeError, match="torque"):
+        Wheel([0.0, 0.0, 1.0], 0.1, torque=True)
 
 
 def test_overflowing_rotors_and_progress():

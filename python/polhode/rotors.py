@@ -17,6 +17,7 @@ on them. Their parameters are checked by the core when they are made.
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -26,7 +27,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_float_array, as_scalar
-from polhode.errors import PolhodeError
+from polhode.errors import NonFiniteError, PolhodeError
 
 __all__ = ["Rotor", "SphericalDamper", "Wheel", "as_rotors", "nutation_rate"]
 
@@ -51,6 +52,11 @@ class Rotor:
 def _motor(torque: Any) -> float | NDArray[np.float64] | Callable[..., Any]:
     if callable(torque):
         return torque
+    if isinstance(torque, bool | np.bool_):
+        raise TypeError(
+            "Expected a wheel's `torque` to be a number, (time, torque) pairs or a function, "
+            "got bool."
+        )
     if isinstance(torque, int | float | np.integer | np.floating) and not isinstance(torque, bool):
         return as_scalar("torque", torque)
     array = as_float_array("torque", torque)
@@ -122,14 +128,24 @@ class Wheel(Rotor):
         """The torque function at (t, omega, rate), its value checked (called by the core)."""
         assert callable(self.torque)
         value = self.torque(t, np.asarray(omega), rate)
-        if isinstance(value, bool) or not isinstance(
-            value, int | float | np.integer | np.floating
-        ) and not (isinstance(value, np.ndarray) and value.shape == ()):
+        real = isinstance(value, numbers.Real | np.integer | np.floating) or (
+            isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf"
+        )
+        if isinstance(value, bool | np.bool_) or not real:
             raise TypeError(
-                "Expected a wheel's `torque` function to return a number, got "
-                f"{type(value).__name__}."
+                "Expected a wheel's `torque` function to return a real number, got "
+                f"{type(value).__name__}"
+                f"{f' of {value.dtype}' if isinstance(value, np.ndarray) else ''}."
             )
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:
+            # An integer beyond double precision (10**400): not finite as a torque.
+            raise NonFiniteError(
+                "Expected a wheel's `torque` function to return a finite number, got an integer "
+                "beyond double precision.",
+                argument="torque",
+            ) from None
 
 
 @dataclass(frozen=True, eq=False)

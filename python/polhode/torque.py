@@ -14,6 +14,7 @@ model can serve any number of runs and bodies.
 
 from __future__ import annotations
 
+import reprlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -22,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode._coerce import as_array, as_flag, as_scalar
+from polhode._coerce import as_array, as_flag, as_float_array, as_scalar
 from polhode.errors import ShapeError
 
 __all__ = [
@@ -39,16 +40,21 @@ __all__ = [
 
 
 def _torque_value(value: Any) -> NDArray[np.float64]:
-    """What a torque function returned, as a (3,) float array, or a clear error."""
-    if value is None or isinstance(value, str | bytes | dict):
+    """What a torque function returned, as a (3,) float array, or a clear error: real numbers
+    only (numpy's own conversion took the real part of complex numbers, read strings and
+    dates as numbers, None as NaN and ignored a mask)."""
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (3,):
+        return value
+    if value is None or isinstance(value, str | bytes | dict) or np.ma.is_masked(value):
         raise TypeError(
-            f"Expected `torque` to return 3 numbers (body axes), got {type(value).__name__}."
+            f"Expected `torque` to return 3 numbers (body axes), got {type(value).__name__}"
+            f"{' with masked values' if np.ma.is_masked(value) else ''}."
         )
     try:
-        array = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as error:
+        array = as_float_array("torque", value)
+    except TypeError as error:
         raise TypeError(
-            f"Expected `torque` to return 3 numbers (body axes), got {value!r}."
+            f"Expected `torque` to return 3 real numbers (body axes), got {reprlib.repr(value)}."
         ) from error
     if array.shape != (3,):
         raise ShapeError(
