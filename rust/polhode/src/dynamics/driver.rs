@@ -641,7 +641,13 @@ fn run_dop853<S: System<N>, const N: usize>(
                     for k in 0..4 {
                         let t = start + (end - start) * (f64::from(k) / 3.0);
                         if let Ok(f) = sys.rhs(&segment, t, &y0) {
-                            let size = Vector3::new(f[0], f[1], f[2]).norm();
+                            // |w'| scaled by a power of two first: a rate of 2e155 squared
+                            // overflows, and a size of inf was a refused sample (the bits of
+                            // the plain norm otherwise).
+                            let rate_w = Vector3::new(f[0], f[1], f[2]);
+                            let k = crate::eigen::exponent(rate_w.amax());
+                            let unit = rate_w.map(|x| crate::eigen::ldexp(x, -k));
+                            let size = crate::eigen::ldexp(unit.norm(), k);
                             if size.is_finite() {
                                 rate = rate.max(size);
                             }
