@@ -509,6 +509,29 @@ def test_bad_torque_model(label, call, kind, name):
     raises(kind, name, call)
 
 
+@pytest.mark.parametrize(
+    ("given", "unit"),
+    [
+        ({"orbit_normal": (0.0, 0.0, 1e-300)}, {"orbit_normal": (0.0, 0.0, 1.0)}),
+        ({"radial0": (1e-300, 0.0, 0.0)}, {"radial0": (1.0, 0.0, 0.0)}),
+        (
+            {"radial0": (1e300, 0.0, 1e300), "orbit_normal": (0.0, 1e300, 0.0)},
+            {"radial0": (1.0, 0.0, 1.0), "orbit_normal": (0.0, 1.0, 0.0)},
+        ),
+    ],
+    ids=["normal-tiny", "radial-tiny", "huge"],
+)
+def test_gravity_gradient_directions_of_any_size(given, unit):
+    """Directions are taken by their direction: a normal of 1e-300 (its norm underflowed) was
+    refused as 'expected a non-zero vector'. The same bits as the unit vectors."""
+
+    def run(kw):
+        torque = ph.torque.GravityGradient(1e-3, **kw)
+        return ph.simulate(MOMENTS, W, [0.0, 1.0], torque=torque).omega
+
+    np.testing.assert_array_equal(run(given), run(unit))
+
+
 def test_gravity_terms_with_one_pivot_add_up():
     """Two Gravity terms about the same pivot (the default's origin given or not) are one of
     twice the field."""

@@ -313,6 +313,20 @@ def test_wrong_types_and_raising_functions():
         Wheel([0.0, 0.0, 1.0], 0.1, torque=True)
 
 
+@pytest.mark.parametrize("axis", [(0.0, 0.0, 1e-300), (1e300, 1e300, 0.0), (0.0, 0.0, 5e-324)])
+def test_a_wheel_axis_is_a_direction_of_any_size(axis):
+    """The axis is normalised: one of 1e-300 (its norm underflowed) or 1e300 (overflowed) was
+    refused as 'expected a non-zero vector'. The same bits as the unit axis."""
+    unit = tuple(float(np.sign(x)) for x in axis)
+    runs = [
+        ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], [0.0, 1.0],
+                    rotors=[Wheel(a, 0.1, rate0=2.0)])
+        for a in (axis, unit)
+    ]
+    np.testing.assert_array_equal(runs[0].omega, runs[1].omega)
+    np.testing.assert_array_equal(runs[0].rotor_rates, runs[1].rotor_rates)
+
+
 def test_overflowing_rotors_and_progress():
     for rate0, inertia in [(1e308, 10.0), (1e200, 0.1)]:
         with pytest.raises(ph.ArgumentError, match="overflows") as error:

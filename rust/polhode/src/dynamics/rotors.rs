@@ -42,7 +42,7 @@ use super::driver::{
 use super::monitor::{Monitor, Progress};
 use super::state::{quaternion_rate, State};
 use super::system::System;
-use super::torque::{Segment, Torque};
+use super::torque::{unit_vector, Segment, Torque};
 use crate::error::{finite, positive, Short};
 use crate::{Error, Result};
 
@@ -241,16 +241,7 @@ impl RotorSpec {
                 rate0,
                 torque,
             } => {
-                for i in 0..3 {
-                    finite(&format!("axis[{i}]"), axis[i])?;
-                }
-                let norm = axis.norm();
-                if !(norm > 0.0 && norm.is_finite()) {
-                    return Err(Error::InvalidArgument {
-                        name: "axis".into(),
-                        reason: format!("expected a non-zero vector, got {:?}.", axis.as_slice()),
-                    });
-                }
+                unit_vector("axis", axis)?;
                 positive("inertia", *inertia)?;
                 finite("rate0", *rate0)?;
                 torque.check()
@@ -353,7 +344,7 @@ impl Gyrostat {
                     rate0,
                     torque,
                 } => {
-                    let axis = frame.tr_mul(&(axis / axis.norm()));
+                    let axis = frame.tr_mul(&unit_vector("axis", axis)?);
                     a -= axis * axis.transpose() * *inertia;
                     Rotor::Wheel {
                         axis,

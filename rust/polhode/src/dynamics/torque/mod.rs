@@ -212,6 +212,30 @@ fn finite_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
     Ok(())
 }
 
+/// `v / |v|` for a direction given as a finite, non-zero vector of any size (an error naming
+/// `name` otherwise). It is scaled by a power of two first, exactly: the same bits as `v / |v|`
+/// where that neither under- nor overflows, and a direction of 1e-300 or 1e300 is still one
+/// (its norm underflowed to 0 or overflowed, and it was refused as "non-zero vector").
+pub(crate) fn unit_vector(name: &str, v: &Vector3<f64>) -> Result<Vector3<f64>> {
+    finite_vector(name, v)?;
+    let largest = v.amax();
+    if largest == 0.0 {
+        return Err(Error::InvalidArgument {
+            name: name.into(),
+            reason: format!("expected a non-zero vector, got {:?}.", v.as_slice()),
+        });
+    }
+    let scaled = of_size_one(v);
+    Ok(scaled / scaled.norm())
+}
+
+/// `v` times the power of two that brings its largest entry to [0.5, 1) (exactly, but for
+/// entries far below the largest); zero stays zero.
+pub(crate) fn of_size_one(v: &Vector3<f64>) -> Vector3<f64> {
+    let k = crate::eigen::exponent(v.amax());
+    v.map(|x| crate::eigen::ldexp(x, -k))
+}
+
 /// Errors if `torque` depends on the orientation (for the angular-velocity-only integrators).
 pub(crate) fn require_orientation_free<T: Torque + ?Sized>(torque: &T) -> Result<()> {
     if torque.depends_on_orientation() {

@@ -3,7 +3,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-use super::{finite_vector, Segment, Torque};
+use super::{finite_vector, of_size_one, unit_vector, Segment, Torque};
 use crate::error::{finite, positive, Short};
 use crate::{Error, Result};
 
@@ -146,18 +146,12 @@ impl GravityGradient {
             positive(&format!("moments[{i}]"), moments[i])?;
         }
         finite("mean_motion", mean_motion)?;
-        finite_vector("orbit_normal", &orbit_normal)?;
+        let k = unit_vector("orbit_normal", &orbit_normal)?;
         finite_vector("radial0", &radial0)?;
-        let k_norm = orbit_normal.norm();
-        if !(k_norm > 0.0 && k_norm.is_finite()) {
-            return Err(Error::InvalidArgument {
-                name: "orbit_normal".into(),
-                reason: format!("expected a non-zero vector, got {orbit_normal:?}."),
-            });
-        }
-        let k = orbit_normal / k_norm;
-        let r_norm = radial0.norm();
-        let in_plane = radial0 - k * k.dot(&radial0);
+        // Its direction only (1e-300 and 1e300 are directions too).
+        let radial = of_size_one(&radial0);
+        let r_norm = radial.norm();
+        let in_plane = radial - k * k.dot(&radial);
         let p_norm = in_plane.norm();
         if !(r_norm > 0.0 && p_norm > 1e-8 * r_norm) {
             return Err(Error::InvalidArgument {
