@@ -139,3 +139,14 @@ def test_simulated_batch_against_a_direct_computation(orientation):
             assert "angular_momentum_space" not in got
     # rk4 conserves nothing exactly: the drift is real, not round-off
     assert max_relative_drift(traj)["energy"] > 1e-10
+
+
+def test_an_empty_batch_drifts_by_nothing():
+    """max_relative_drift of a batch of no bodies raised numpy's 'zero-size array to reduction
+    operation maximum'."""
+    traj = ph.simulate([1.0, 2.0, 3.0], np.zeros((0, 3)), 1.0)
+    assert max_relative_drift(traj) == {
+        "energy": 0.0,
+        "angular_momentum_norm": 0.0,
+        "angular_momentum_space": 0.0,
+    }

@@ -532,6 +532,38 @@ def test_gravity_gradient_directions_of_any_size(given, unit):
     np.testing.assert_array_equal(run(given), run(unit))
 
 
+def test_a_pivot_too_far_names_the_pivot():
+    """A Body's inertia about a pivot of 1e200 overflows: the error named body[0, 0], NaN."""
+    error = raises(
+        ph.ArgumentError,
+        "pivot",
+        lambda: ph.simulate(
+            ph.Body.cone(0.1, 0.04, 0.03),
+            (1.0, 2.0, 5.0),
+            [0.0, 1.0],
+            torque=ph.torque.Gravity(pivot=(1e200, 0.0, 0.0)),
+        ),
+    )
+    assert error.argument == "pivot"
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: ph.torque.Sum(ph.torque.BodyFixed((0.0, 0.0, 1.0))), "terms"),
+        (lambda: ph.torque.Sum("ab"), "terms"),
+        (
+            lambda: ph.torque.Function(lambda t, w, q: (0.0, 0.0, 0.0), discontinuities=0.5),
+            "discontinuities",
+        ),
+    ],
+    ids=["Sum-of-one-torque", "Sum-of-str", "discontinuities-number"],
+)
+def test_sequences_that_are_not(call, name):
+    """Were TypeErrors from Python's iteration ("'BodyFixed' object is not iterable")."""
+    raises(TypeError, f"`{name}`", call)
+
+
 def test_gravity_terms_with_one_pivot_add_up():
     """Two Gravity terms about the same pivot (the default's origin given or not) are one of
     twice the field."""

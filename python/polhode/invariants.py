@@ -94,7 +94,8 @@ def relative_drift(traj: Any) -> dict[str, Array]:
 
 def max_relative_drift(traj: Any) -> dict[str, float]:
     """The largest entry of each array of :func:`relative_drift`: over the output times, and
-    over the bodies of a batch (NaN if any entry is NaN).
+    over the bodies of a batch (NaN if any entry is NaN; 0 for an empty batch, which drifts
+    by nothing).
 
     Examples
     --------
@@ -109,4 +110,7 @@ def max_relative_drift(traj: Any) -> dict[str, float]:
     splitting True
     rk4 False
     """
-    return {key: float(np.max(values)) for key, values in relative_drift(traj).items()}
+    return {
+        key: float(np.max(values)) if values.size else 0.0
+        for key, values in relative_drift(traj).items()
+    }

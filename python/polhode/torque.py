@@ -15,7 +15,7 @@ model can serve any number of runs and bodies.
 from __future__ import annotations
 
 import reprlib
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -61,6 +61,14 @@ def _torque_value(value: Any) -> NDArray[np.float64]:
             f"Expected `torque` to return shape (3,), got shape {array.shape}.", argument="torque"
         )
     return array
+
+
+def _sequence(name: str, value: Any) -> Any:
+    """``value`` if it is a sequence (an iterable other than a string, a torque or a
+    number), else a TypeError naming ``name``."""
+    if isinstance(value, str | bytes | Torque) or not isinstance(value, Iterable):
+        raise TypeError(f"Expected `{name}` to be a sequence, got {type(value).__name__}.")
+    return value
 
 
 class Torque:
@@ -221,7 +229,9 @@ class GravityGradient(Torque):
 
     ``r`` is the unit radial direction in body axes and ``I`` the body's inertia tensor in
     those axes; in space, ``r`` turns about ``orbit_normal`` at the mean motion
-    ``n = sqrt(mu / a^3)``, starting from ``radial0`` at t = 0.
+    ``n = sqrt(mu / a^3)``, starting from ``radial0`` at t = 0. Both are directions (any
+    size); ``radial0`` is projected into the orbit plane (its part along ``orbit_normal``
+    dropped), and must not be parallel to ``orbit_normal``.
 
     Examples
     --------
@@ -303,7 +313,7 @@ class Sum(Torque):
     terms: tuple[Torque, ...] = field(default=())
 
     def __init__(self, terms: Sequence[Any]) -> None:
-        object.__setattr__(self, "terms", tuple(as_torque(t) for t in terms))
+        object.__setattr__(self, "terms", tuple(as_torque(t) for t in _sequence("terms", terms)))
         self.__post_init__()
 
 
@@ -356,7 +366,10 @@ class Function(Torque):
         object.__setattr__(
             self,
             "discontinuities",
-            tuple(as_scalar("discontinuities", t) for t in discontinuities),
+            tuple(
+                as_scalar("discontinuities", t)
+                for t in _sequence("discontinuities", discontinuities)
+            ),
         )
         self.__post_init__()
 

@@ -32,7 +32,7 @@ use crate::dynamics::{
     exact_range, integrate_body, integrate_gyrostat, BodyContext, Gyrostat, Method, Moments,
     Monitor, Options, RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
 };
-use crate::error::finite;
+use crate::error::{finite, Short};
 use crate::exact::FreeRotation;
 use crate::mass::{check_rotation, MassProperties};
 use crate::{Error, Result};
@@ -505,6 +505,19 @@ fn prepare(body: &Body, torque: Option<&TorqueSpec>) -> Result<Prepared> {
             let (p, context) = match pivot {
                 Some(pivot) => {
                     let inertia = mp.inertia_about(&pivot);
+                    if !inertia.iter().all(|x| x.is_finite()) {
+                        // The body's own inertia is finite: the pivot is too far from it.
+                        return Err(Error::InvalidArgument {
+                            name: "pivot".into(),
+                            reason: format!(
+                                "the body's inertia about the pivot ({}, {}, {}) overflows \
+                                 double precision (its mass times the squared distance).",
+                                Short(pivot.x),
+                                Short(pivot.y),
+                                Short(pivot.z)
+                            ),
+                        });
+                    }
                     let p = crate::eigen::symmetric_eigen3_with(
                         &inertia,
                         crate::eigen::DEFAULT_RTOL,

@@ -383,8 +383,10 @@ impl Gyrostat {
                 reason: format!(
                     "the rotors' spinning inertia must lie inside the body's: the body's inertia \
                      includes its rotors (locked), so I - sum J a a^T (wheels) - sum J 1 \
-                     (dampers) must be positive definite; its smallest eigenvalue is {} with \
-                     principal moments {:?}.",
+                     (dampers) must be positive definite, its smallest eigenvalue above 1e-12 \
+                     times the largest principal moment ({}); it is {} with principal moments \
+                     {:?}.",
+                    Short(1e-12 * scale),
                     Short(smallest),
                     moments.as_slice()
                 ),
