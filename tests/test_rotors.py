@@ -275,6 +275,11 @@ def test_rotor_inertia_must_lie_inside_the_body():
     with pytest.raises(ph.ArgumentError, match="positive definite"):
         ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0,
                     rotors=[SphericalDamper(0.6, 0.1), SphericalDamper(0.5, 0.1)])
+    # Positive but below the threshold, which the message states (it read as a contradiction:
+    # "must be positive definite; its smallest eigenvalue is 9.99e-16").
+    with pytest.raises(ph.ArgumentError, match=r"above 1e-12 times the largest .* \(3e-12\)"):
+        ph.simulate((1.0, 2.0, 3.0), [0.1, 1.0, 0.1], 1.0,
+                    rotors=[Wheel([1.0, 0.0, 0.0], 1.0 - 1e-15)])
 
 
 def test_wrong_types_and_raising_functions():
