@@ -1022,3 +1022,15 @@ def test_the_default_tolerance_does_not_call_the_torque_at_rest():
     expected = w0[None, :] * (1.0 - 0.1 * t[:, None] / (2.0 * np.linalg.norm(w0)))
     np.testing.assert_allclose(sol.omega, expected, rtol=1e-8, atol=0)
     assert not any(np.all(w == 0.0) for w in seen)
+
+
+@pytest.mark.parametrize("end", [5e-324, 1e-320])
+def test_dop853_across_a_discontinuity_at_a_subnormal_time(end):
+    """A window of torque closing at the smallest subnormal: the step carried from that
+    segment (5e-324) times 0.1 is 0, and dop853 refused it as too small at the next segment's
+    start. The torque acts for 5e-324 s: the motion is the free one."""
+    window = ph.torque.Window(ph.torque.BodyFixed((0.0, 0.0, 2.0)), 0.0, end)
+    t = np.linspace(0.0, 1.0, 5)
+    sol = ph.simulate((1.0, 2.0, 3.0), (0.1, 1.0, 0.2), t, method="dop853", torque=window)
+    free = ph.simulate((1.0, 2.0, 3.0), (0.1, 1.0, 0.2), t, method="exact")
+    assert np.abs(sol.omega - free.omega).max() <= 1e-8

@@ -332,8 +332,10 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
             h = span - tau;
         }
         // The step to the end of the interval is taken whatever its size (an interval between a
-        // torque discontinuity and an output time may be round-off small).
-        if h.is_nan() || (!last && 0.1 * h.abs() <= tau.abs() * f64::EPSILON) {
+        // torque discontinuity and an output time may be round-off small). Written as
+        // `h <= 10 tau eps`, not `0.1 h <= tau eps`: a step of 5e-324 (the size carried from a
+        // segment that short) times 0.1 is 0, and was refused at tau = 0.
+        if h.is_nan() || (!last && h.abs() <= 10.0 * (tau.abs() * f64::EPSILON)) {
             return Err(Error::NoConvergence {
                 method: "dop853".into(),
                 name: "t".into(),
