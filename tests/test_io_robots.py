@@ -621,6 +621,37 @@ def test_audit_of_the_mjcf_fixture():
         mujoco.MjSpec.from_file(BROKEN_MJCF).compile()
 
 
+@pytest.mark.parametrize(
+    "inertial",
+    ['fullinertia="1 1 1 nan 0 0"', 'diaginertia="nan 1 1"', 'diaginertia="inf 1 1"'],
+    ids=["nan-product", "nan-moment", "inf-moment"],
+)
+def test_audit_of_a_tensor_that_is_not_finite(inertial):
+    """A NaN product passed every check (each comparison with NaN is False) and the verdict
+    was 'ok, consistent'; a NaN or inf moment raised numpy's LinAlgError. Now an error
+    finding; the readers refuse such a file."""
+    path = _write(
+        f'<mujoco><worldbody><body name="a"><inertial pos="0 0 0" mass="1" {inertial}/>'
+        "</body></worldbody></mujoco>",
+        ".xml",
+    )
+    assert findings_by_link(ph.io.audit(path)) == {"a": [("error", "non_finite")]}
+    with pytest.raises(FileFormatError):
+        ph.io.read_mjcf(path)
+
+
+def test_moments_near_the_largest_double_are_read_as_declared():
+    """(t + t^T) / 2 overflowed at 1e308: the file's moments were refused as inf, and the
+    audit's triangle test overflowed its sum."""
+    path = _write(
+        '<mujoco><worldbody><body name="a"><inertial pos="0 0 0" mass="1" '
+        'diaginertia="1e308 1e308 1e308"/></body></worldbody></mujoco>',
+        ".xml",
+    )
+    np.testing.assert_array_equal(ph.io.read_mjcf(path)["a"].inertia, 1e308 * np.eye(3))
+    assert findings_by_link(ph.io.audit(path)) == {"a": [("ok", "ok")]}
+
+
 def test_audit_of_upkie():
     # The collision shapes are primitives and the inertials their textbook formulas: all agree
     # but the femurs and tibias, whose ixx = iyy = 5.17e-6 is that of a 0.026 m cylinder while

@@ -601,7 +601,7 @@ def _urdf_links(path: str, geometry: str, shapes_of: str) -> list[_Link]:
             inertial = _Inertial(
                 float(link.inertial.mass),
                 np.array(origin[:3, 3], dtype=float),
-                (tensor + tensor.T) / 2,
+                _symmetric(tensor),
                 "inertial.inertia",
             )
         shapes = link.collisions if geometry == "collision" else link.visuals
@@ -872,9 +872,11 @@ def _mjcf_links(path: str) -> tuple[list[_Link], bool]:
                 rotation = _mjcf_rotation(
                     path, name, "inertial.quat", _mjcf_quat(spec, body.iquat, body.ialt)
                 )
-                tensor = rotation @ np.diag(np.asarray(body.inertia, dtype=float)) @ rotation.T
+                # An infinite moment gives NaN entries (inf * 0): refused or reported later.
+                with np.errstate(invalid="ignore", over="ignore"):
+                    tensor = rotation @ np.diag(np.asarray(body.inertia, dtype=float)) @ rotation.T
                 inertial = _Inertial(
-                    float(body.mass), com, (tensor + tensor.T) / 2, "inertial.diaginertia"
+                    float(body.mass), com, _symmetric(tensor), "inertial.diaginertia"
                 )
             else:
                 xx, yy, zz, xy, xz, yz = full
@@ -1208,6 +1210,16 @@ def _with_products(tensor: NDArray[np.float64], values: Sequence[float]) -> NDAr
     return out
 
 
+def _symmetric(tensor: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The mean of ``tensor`` and its transpose, without overflow near the largest double
+    (a declared moment of 1e308 read as inf)."""
+    with np.errstate(over="ignore"):
+        mean = (tensor + tensor.T) / 2
+    if np.all(np.isfinite(mean)) or not np.all(np.isfinite(tensor)):
+        return mean
+    return tensor / 2 + tensor.T / 2
+
+
 def _audit_link(
     link: _Link, kind: str, fmt: str, rtol: float, density: float | None
 ) -> list[Finding]:
@@ -1273,6 +1285,16 @@ def _audit_link(
             + ".",
             corrected,
         )
+    if not np.all(np.isfinite(tensor)):
+        # Every comparison below is False with a NaN (the verdict was "ok"), and eigvalsh
+        # raises LinAlgError on one.
+        add(
+            "error",
+            "non_finite",
+            f"the inertia tensor has entries that are not finite: {tensor.tolist()}.",
+            corrected,
+        )
+        return findings
     moments = np.linalg.eigvalsh(tensor)
     largest = float(np.max(np.abs(moments))) if moments.size else 0.0
     tolerance = 16 * eps * max(largest, float(np.abs(tensor).max()))
@@ -1286,7 +1308,8 @@ def _audit_link(
             f"{_fmt(moments)} (one is negative).",
             corrected,
         )
-    elif moments[0] + moments[1] < moments[2] - tolerance:
+    # In halves (exactly): moments near the largest double would overflow the sum.
+    elif moments[0] / 2 + moments[1] / 2 < moments[2] / 2 - tolerance / 2:
         error_found = True
         excess = (moments[2] - moments[0] - moments[1]) / moments[2]
         add(
