@@ -652,6 +652,21 @@ def test_moments_near_the_largest_double_are_read_as_declared():
     assert findings_by_link(ph.io.audit(path)) == {"a": [("ok", "ok")]}
 
 
+def test_an_unnamed_body_beside_one_named_like_it():
+    """An unnamed body is "body K"; one named "body 1" took its key and the unnamed body was
+    lost without a word. Against MuJoCo's masses (4 pi/3 0.1^3 and 0.2^3 at density 1000)."""
+    path = _write(
+        '<mujoco><worldbody><body><geom type="sphere" size="0.1"/></body>'
+        '<body name="body 1"><geom type="sphere" size="0.2"/></body></worldbody></mujoco>',
+        ".xml",
+    )
+    bodies = ph.io.read_mjcf(path)
+    model = mujoco.MjModel.from_xml_path(path)
+    assert list(bodies) == ["body 1 (unnamed)", "body 1"]
+    assert bodies["body 1 (unnamed)"].mass == pytest.approx(model.body_mass[1], rel=1e-14)
+    assert bodies["body 1"].mass == pytest.approx(model.body_mass[2], rel=1e-14)
+
+
 def test_audit_of_upkie():
     # The collision shapes are primitives and the inertials their textbook formulas: all agree
     # but the femurs and tibias, whose ixx = iyy = 5.17e-6 is that of a 0.026 m cylinder while

@@ -852,10 +852,17 @@ def _mjcf_links(path: str) -> tuple[list[_Link], bool]:
     low, high = (int(x) for x in spec.compiler.inertiagrouprange)
     infer = spec.compiler.inertiafromgeom != mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     links = []
+    # An unnamed body is "body K" (K its MuJoCo id), unless a body is named so: then
+    # "body K (unnamed)" (the two shared a key, and one of them was lost without a word).
+    taken = {body.name for body in spec.bodies if body.name}
     for index, body in enumerate(spec.bodies):
         if index == 0:
             continue  # the world
-        name = body.name or f"body {index}"
+        name = body.name
+        if not name:
+            name = f"body {index}"
+            while name in taken:
+                name += " (unnamed)"
         inertial = None
         if body.explicitinertial:
             full = np.asarray(body.fullinertia, dtype=float)
@@ -1104,7 +1111,8 @@ def read_mjcf(
     Returns
     -------
     dict[str, Body]
-        By body name (an unnamed body as ``"body K"``, K its MuJoCo body id), in the file's
+        By body name (an unnamed body as ``"body K"``, K its MuJoCo body id, or
+        ``"body K (unnamed)"`` if a body is named ``"body K"``), in the file's
         order.
 
     Raises
