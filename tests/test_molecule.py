@@ -131,6 +131,9 @@ def test_from_atoms_is_point_masses_at_the_atoms():
         (["Tc"], ph.ArgumentError, r"Tc.*no natural isotopic abundance"),
         (["Og"], ph.ArgumentError, r"Og.*no natural isotopic abundance"),
         (["n"], ph.ArgumentError, r"symbols\[0\]"),
+        # D and T are hydrogen-2 and -3: another mass number crashed with a bare TypeError.
+        (["3D"], ph.ArgumentError, r"symbols\[0\].*'3D' \(D is hydrogen-2\)"),
+        (["2T"], ph.ArgumentError, r"symbols\[0\].*'2T' \(T is hydrogen-3\)"),
         ([], ph.ShapeError, r"at least one atom"),
     ],
 )
@@ -139,6 +142,15 @@ def test_bad_symbols_are_named(symbols, error, pattern):
     with pytest.raises(error, match=pattern) as raised:
         ph.Body.from_atoms(symbols, positions)
     assert raised.value.argument == "symbols"
+
+
+def test_deuterium_and_tritium_with_their_mass_numbers():
+    """'2D' and '3T' are D and T written out (they raised a bare TypeError)."""
+    positions = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.74]])
+    for written, short in (("2D", "D"), ("3T", "T")):
+        a = ph.Body.from_atoms([written, "H"], positions)
+        b = ph.Body.from_atoms([short, "H"], positions)
+        assert a.mass == b.mass and np.array_equal(a.inertia, b.inertia)
 
 
 def test_bad_atoms_input_is_named():

@@ -82,6 +82,17 @@ def _element_of(label: str, index: int) -> tuple[Any, int | None]:
     if label in ("D", "T"):
         return periodictable.H, 2 if label == "D" else 3
     match = _LABEL.match(label)
+    if match is not None and match.group(2) in ("D", "T"):
+        # Hydrogen-2 and -3 with their mass number written out: "2D" is D, "3D" is nothing
+        # (periodictable's symbol("D") is an isotope, whose own isotopes crashed the check).
+        implied = 2 if match.group(2) == "D" else 3
+        if match.group(1) is not None and int(match.group(1)) != implied:
+            raise ArgumentError(
+                f"Expected `symbols[{index}]` to be a known isotope, got {label!r} "
+                f"({match.group(2)} is hydrogen-{implied}).",
+                argument="symbols",
+            )
+        return periodictable.H, implied
     element = None
     if match is not None:
         try:
