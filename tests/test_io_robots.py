@@ -667,6 +667,51 @@ def test_an_unnamed_body_beside_one_named_like_it():
     assert bodies["body 1"].mass == pytest.approx(model.body_mass[2], rel=1e-14)
 
 
+@pytest.mark.parametrize(
+    ("text", "suffix", "field", "fragment"),
+    [
+        (
+            '<mujoco><worldbody><body name="a"><geom type="sphere" size="-0.1"/></body>'
+            "</worldbody></mujoco>",
+            ".xml",
+            "geom[0].size",
+            "sphere's sizes to be positive and finite, got [-0.1]",
+        ),
+        (
+            '<mujoco><worldbody><body name="a"><geom type="box" size="0.1 0 0.1"/></body>'
+            "</worldbody></mujoco>",
+            ".xml",
+            "geom[0].size",
+            "box's sizes to be positive and finite",
+        ),
+        (
+            '<mujoco><worldbody><body name="a"><geom type="sphere" size="1e200"/></body>'
+            "</worldbody></mujoco>",
+            ".xml",
+            "geom[0].size",
+            "volume at sizes [1e+200] is beyond double precision",
+        ),
+        (
+            '<robot name="r"><link name="a"><collision><geometry><cylinder radius="1" '
+            'length="-1"/></geometry></collision></link></robot>',
+            ".urdf",
+            "collision[0].geometry",
+            "cylinder's sizes to be positive and finite, got [1.0, -1.0]",
+        ),
+    ],
+    ids=["mjcf-negative-sphere", "mjcf-flat-box", "mjcf-huge-sphere", "urdf-negative-cylinder"],
+)
+def test_bad_geometry_sizes_are_named(text, suffix, field, fragment):
+    """Were 'Expected `mass` to be positive, got -0.00419' (the volume passed as a mass), or
+    a numpy warning and a mass of inf."""
+    path = _write(text, suffix)
+    read = ph.io.read_mjcf if suffix == ".xml" else ph.io.read_urdf
+    with pytest.raises(FileFormatError) as error:
+        read(path, density=1000.0)
+    assert fragment in str(error.value) and error.value.field == field
+    assert "`mass`" not in str(error.value)
+
+
 def test_audit_of_upkie():
     # The collision shapes are primitives and the inertials their textbook formulas: all agree
     # but the femurs and tibias, whose ixx = iyy = 5.17e-6 is that of a 0.026 m cylinder while

@@ -233,6 +233,30 @@ def _mesh_parts(
     return parts
 
 
+def _unit_volume(kind: str, sizes: Any, volume: Any) -> float:
+    """The volume of a primitive (its mass at unit density) from its positive, finite
+    ``sizes``, or a PolhodeError naming the sizes: a negative or zero size was reported as a
+    "mass" that must be positive, and a volume beyond double precision as a mass of inf or 0."""
+    values = [float(x) for x in np.ravel(sizes)]
+    if not all(math.isfinite(x) and x > 0 for x in values):
+        raise ArgumentError(
+            f"expected the {kind}'s sizes to be positive and finite, got {values}.",
+            argument="size",
+        )
+    try:
+        with np.errstate(over="ignore", under="ignore"):
+            v = float(volume(*values))
+    except OverflowError:  # Python's float power raises where numpy gives inf
+        v = math.inf
+    if not (math.isfinite(v) and v >= np.finfo(float).tiny):
+        raise ArgumentError(
+            f"the {kind}'s volume at sizes {values} is beyond double precision ({v:g}): its "
+            "mass at a density cannot be represented.",
+            argument="size",
+        )
+    return v
+
+
 def _mesh_body(
     path: str,
     name: str,
@@ -642,13 +666,14 @@ def _urdf_shape(
     try:
         if g.box is not None:
             size = np.asarray(g.box.size, dtype=float)
-            body = Body.cuboid(float(np.prod(size)), size)
+            body = Body.cuboid(_unit_volume("box", size, lambda a, b, c: a * b * c), size)
         elif g.cylinder is not None:
             r, length = float(g.cylinder.radius), float(g.cylinder.length)
-            body = Body.cylinder(math.pi * r * r * length, r, length)
+            v = _unit_volume("cylinder", (r, length), lambda r, h: math.pi * r * r * h)
+            body = Body.cylinder(v, r, length)
         elif g.sphere is not None:
             r = float(g.sphere.radius)
-            body = Body.sphere(4.0 / 3.0 * math.pi * r**3, r)
+            body = Body.sphere(_unit_volume("sphere", r, lambda r: 4.0 / 3.0 * math.pi * r**3), r)
         elif g.mesh is not None:
             filename = resolve(g.mesh.filename, dir=folder)
             if not os.path.isfile(filename):
@@ -963,22 +988,25 @@ def _mjcf_geom(
         elif kind == t.mjGEOM_SPHERE:
             r = size[0]
             unit = (
-                Body.spherical_shell(4 * math.pi * r * r, r)
+                Body.spherical_shell(_unit_volume("sphere", r, lambda r: 4 * math.pi * r * r), r)
                 if shell
-                else Body.sphere(4 / 3 * math.pi * r**3, r)
+                else Body.sphere(_unit_volume("sphere", r, lambda r: 4 / 3 * math.pi * r**3), r)
             )
         elif shell:
             raise fail("shell inertia is supported for spheres and meshes only.", "shellinertia")
         elif kind == t.mjGEOM_CAPSULE:
             r, h = size[0], 2 * size[1]
-            unit = Body.capsule(math.pi * (r * r * h + 4 / 3 * r**3), r, h)
+            v = _unit_volume("capsule", (r, h), lambda r, h: math.pi * (r * r * h + 4 / 3 * r**3))
+            unit = Body.capsule(v, r, h)
         elif kind == t.mjGEOM_CYLINDER:
             r, h = size[0], 2 * size[1]
-            unit = Body.cylinder(math.pi * r * r * h, r, h)
+            v = _unit_volume("cylinder", (r, h), lambda r, h: math.pi * r * r * h)
+            unit = Body.cylinder(v, r, h)
         elif kind == t.mjGEOM_ELLIPSOID:
-            unit = Body.ellipsoid(4 / 3 * math.pi * float(np.prod(size)), size)
+            v = _unit_volume("ellipsoid", size, lambda a, b, c: 4 / 3 * math.pi * (a * b * c))
+            unit = Body.ellipsoid(v, size)
         elif kind == t.mjGEOM_BOX:
-            unit = Body.cuboid(8 * float(np.prod(size)), 2 * size)
+            unit = Body.cuboid(_unit_volume("box", size, lambda a, b, c: 8 * (a * b * c)), 2 * size)
         else:
             raise fail(f"geoms of type {kind} have no volume polhode computes.")
     except FileFormatError:
