@@ -712,6 +712,22 @@ def test_bad_geometry_sizes_are_named(text, suffix, field, fragment):
     assert "`mass`" not in str(error.value)
 
 
+@pytest.mark.parametrize(
+    "body",
+    [
+        '<geom type="box" size=".1 .1 .1" pos="nan 0 0"/>',
+        '<frame pos="nan 0 0"><geom type="box" size=".1 .1 .1"/></frame>',
+    ],
+    ids=["geom", "frame"],
+)
+def test_a_position_that_is_not_finite_names_the_body_and_geom(body):
+    """Was "Expected `offset[0]` to be finite": an internal argument, no file or body."""
+    path = _write(f'<mujoco><worldbody><body name="a">{body}</body></worldbody></mujoco>', ".xml")
+    with pytest.raises(FileFormatError, match="expected a finite position") as error:
+        ph.io.read_mjcf(path)
+    assert error.value.link == "a" and error.value.field == "geom[0].pos"
+
+
 def test_audit_of_upkie():
     # The collision shapes are primitives and the inertials their textbook formulas: all agree
     # but the femurs and tibias, whose ixx = iyy = 5.17e-6 is that of a 0.026 m cylinder while

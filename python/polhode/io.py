@@ -1025,7 +1025,14 @@ def _mjcf_geom(
         if not geom.density > 0:
             raise fail(f"expected a density >= 0, got {geom.density:g}.", "density")
         density = float(geom.density)
-    return _placed(unit, rotation, position), density
+    if not np.all(np.isfinite(position)):
+        # The geom's pos, or a frame's around it (the error named `offset`, an internal
+        # argument, without the file or the body).
+        raise fail(f"expected a finite position, got {np.asarray(position).tolist()}.", "pos")
+    try:
+        return _placed(unit, rotation, position), density
+    except PolhodeError as error:
+        raise fail(error.message, "pos") from error
 
 
 def _mjcf_mesh(
