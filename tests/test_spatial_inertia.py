@@ -201,6 +201,43 @@ def test_errors_name_the_matrix():
         ph.Body.from_spatial_inertia("matrix")
 
 
+def _point_mass_spatial(c):
+    """The textbook spatial inertia (Featherstone) of a unit point mass at c, by hand."""
+    c = np.asarray(c, dtype=float)
+    x = np.array([[0.0, -c[2], c[1]], [c[2], 0.0, -c[0]], [-c[1], c[0], 0.0]])
+    return np.block([[c @ c * np.eye(3) - np.outer(c, c), x], [x.T, np.eye(3)]])
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: (_point_mass_spatial([0.1, 0.2, 0.3]), np.zeros((3, 3)), [0.1, 0.2, 0.3]),
+        lambda: ph.Body.disk(1.0, 0.1).translated([1.0, 2.0, 3.0]),
+        lambda: ph.Body.disk(1.0, 0.1).translated([1000.0, 0.0, 0.0]),
+        lambda: ph.Body.point_masses([1.0, 1.0, 1.0], [[0, 0, 0], [1, 0, 0], [0, 1, 0]]).translated(
+            [10.0, 10.0, 0.0]
+        ),
+    ],
+    ids=["point-mass", "disk", "far-disk", "flat-points"],
+)
+def test_degenerate_bodies_away_from_the_point(make):
+    """A point mass, a disk or a flat set of points away from the point: I_c recovered as
+    I_p - m [c][c]^T lies within rounding (eps ||I_p||) of a zero moment or of the triangle
+    inequality's equality, and was refused as "not an inertia tensor", even for the spatial
+    inertia polhode itself wrote. The result: the body, to that rounding."""
+    made = make()
+    if isinstance(made, tuple):
+        matrix, inertia, com = made
+        mass = 1.0
+    else:
+        matrix = made.spatial_inertia()
+        mass, inertia, com = made.mass, made.inertia, made.center_of_mass
+    body = ph.Body.from_spatial_inertia(matrix)
+    assert body.mass == mass
+    np.testing.assert_allclose(body.center_of_mass, com, rtol=4 * EPS, atol=0)
+    assert np.abs(body.inertia - inertia).max() <= 32 * EPS * np.abs(matrix).max()
+
+
 def test_rtol_admits_rounded_matrices():
     s = good_matrix()
     rounded = np.round(s, 6)

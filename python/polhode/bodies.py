@@ -767,8 +767,10 @@ class Body:
         The matrix is checked: symmetric, its mass block m times the identity with m > 0, its
         coupling block m times a cross-product matrix (skew), each to ``rtol`` times the
         largest entry; the rotational inertia about the centre of mass it implies must be a
-        valid inertia tensor (positive semidefinite, triangle inequality). Each failure
-        raises a typed error naming ``matrix``.
+        valid inertia tensor (positive semidefinite, triangle inequality) to within the
+        rounding of its recovery, 16 eps ||I_p|| (a point mass, rod or flat body away from
+        ``point`` is put back on that boundary). Each failure raises a typed error naming
+        ``matrix``.
 
         The format holds the inertia about ``point``, I_p = I_c + m [c][c]^T; recovering I_c
         subtracts, so a point far from the centre of mass costs digits (the error is about
@@ -853,9 +855,22 @@ class Body:
         cross = _cross_matrix(c)
         upper = (s[:3, :3] + s[:3, :3].T) / 2
         about_center = upper - m * cross @ cross.T
+        about_center = (about_center + about_center.T) / 2
         try:
-            return cls.from_inertia(m, (about_center + about_center.T) / 2, p + c)
+            return cls.from_inertia(m, about_center, p + c)
         except InertiaError as error:
+            # Recovering I_c = I_p - m [c][c]^T leaves rounding of about eps ||I_p||: a point
+            # mass, a rod or a flat body away from the point (a zero moment, or the triangle
+            # inequality with equality) came out a hair outside the valid tensors, and their
+            # own spatial inertia was refused. Within 16 eps ||I_p|| of valid, the moments are
+            # put back on the boundary (a change of that size, the recovery's own error).
+            slack = 16 * np.finfo(float).eps * float(np.abs(upper).max())
+            moments, axes = np.linalg.eigh(about_center)
+            if moments[0] >= -slack and moments[2] - moments[0] - moments[1] <= slack:
+                moments = np.maximum(moments, 0.0)
+                moments[2] = min(moments[2], moments[0] + moments[1])
+                repaired = (axes * moments) @ axes.T
+                return cls.from_inertia(m, (repaired + repaired.T) / 2, p + c)
             raise InertiaError(
                 "Expected `matrix` to be the spatial inertia of a body, but the rotational "
                 f"inertia about the centre of mass it implies is not an inertia tensor: "
