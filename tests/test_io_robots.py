@@ -728,6 +728,28 @@ def test_a_position_that_is_not_finite_names_the_body_and_geom(body):
     assert error.value.link == "a" and error.value.field == "geom[0].pos"
 
 
+@pytest.mark.parametrize(
+    ("text", "link", "field"),
+    [
+        (
+            '<robot name="r"><link name="a"><inertial><origin xyz="1,2,3"/><mass value="1"/>'
+            '<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>',
+            "a",
+            "inertial.origin.xyz",
+        ),
+        ('<robot><link name="a"/></robot>', None, "robot.name"),
+    ],
+    ids=["commas", "no-robot-name"],
+)
+def test_urdf_the_checker_refuses_what_yourdfpy_cannot_read(text, link, field):
+    """Numbers with commas passed the checker and a robot without a name was not checked:
+    yourdfpy then failed ("could not convert string to float", KeyError: 'name') and the
+    error had neither the link nor the field."""
+    with pytest.raises(FileFormatError) as error:
+        ph.io.read_urdf(_write(text))
+    assert error.value.link == link and error.value.field == field
+
+
 def test_audit_of_upkie():
     # The collision shapes are primitives and the inertials their textbook formulas: all agree
     # but the femurs and tibias, whose ixx = iyy = 5.17e-6 is that of a 0.026 m cylinder while

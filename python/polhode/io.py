@@ -482,11 +482,13 @@ def _resolve(
 
 # --- URDF ------------------------------------------------------------------------------------
 
-_NUMBER = re.compile(r"[,\s]+")
+_NUMBER = re.compile(r"\s+")
 
 
 def _numbers(text: str | None, count: Sequence[int]) -> list[float] | None:
-    """``count`` finite numbers (whitespace or comma separated) from an attribute, or None."""
+    """``count`` finite numbers (whitespace separated, as yourdfpy reads them: with commas
+    the checker passed what yourdfpy then failed to read, without the link or the field) from
+    an attribute, or None."""
     if text is None:
         return None
     words = [w for w in _NUMBER.split(text.strip()) if w]
@@ -542,6 +544,9 @@ class _UrdfChecker:
     def check(self, root: Any) -> None:
         if root.tag != "robot":
             raise self.fail(None, "robot", f"expected a <robot> element, got <{root.tag}>.")
+        if not root.get("name"):
+            # yourdfpy raised KeyError: 'name'.
+            raise self.fail(None, "robot.name", "the <robot> has no name.")
         names: set[str] = set()
         for element in root.findall("link"):
             name = element.get("name")
