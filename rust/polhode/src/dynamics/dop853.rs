@@ -81,13 +81,48 @@ fn error_norm<const N: usize>(
             e3 += k[j] * E3[j];
         }
     }
-    // The measure is homogeneous of degree 1 in (e5, e3): they are scaled by a power of two
-    // to a largest of about 1 before they are divided by the tolerances, the ratios again
-    // before they are squared, and the measure scaled back by both (the same bits wherever
-    // nothing under- or overflowed). Squared as they were, the ratios of a slow motion (rates
-    // of 1e-180 against tolerances of 1e-10 over steps of 1e180) underflowed to 0 and every
-    // step was accepted however large; those of a fast one (rates of 1e300 over steps of
-    // 1e-302) overflowed and every step was refused.
+    let sc = |i: usize| tol.atol[i] + tol.rtol[i] * y[i].abs().max(y_new[i].abs());
+    // Hairer's measure as it is where its squares are safe (ratios between 2^-500 and 2^500,
+    // nearly always); otherwise scaled (see `scaled_error_norm`).
+    let (mut err5, mut err3) = (0.0, 0.0);
+    for i in 0..N {
+        let s = sc(i);
+        let (r5, r3) = (ratio(e5[i], s), ratio(e3[i], s));
+        err5 += r5 * r5;
+        err3 += r3 * r3;
+    }
+    // Squares that under- or overflowed (sums outside [2^-1000, 2^1000], or 0 from errors
+    // that are not) need the scaling; nearly always they did not.
+    let total = err5 + err3;
+    const SAFE: f64 = 9.332636185032189e-302; // 2^-1000
+    let overflowed = total.is_nan() || total > 1.0 / SAFE;
+    if overflowed || (total < SAFE && (total != 0.0 || e5.amax() + e3.amax() != 0.0)) {
+        return scaled_error_norm(&e5, &e3, h, &sc);
+    }
+    if total == 0.0 {
+        return 0.0;
+    }
+    let mut deno = err5 + 0.01 * err3;
+    if deno <= 0.0 {
+        deno = 1.0;
+    }
+    h.abs() * err5 / (deno * N as f64).sqrt()
+}
+
+/// [`error_norm`] where its squares would under- or overflow. The measure is homogeneous of
+/// degree 1 in (e5, e3): they are scaled by a power of two to a largest of about 1 before
+/// they are divided by the tolerances, the ratios again before they are squared, and the
+/// measure scaled back by both. Squared as they were, the ratios of a slow motion (rates of
+/// 1e-180 against tolerances of 1e-10 over steps of 1e180) underflowed to 0 and every step
+/// was accepted however large; those of a fast one (rates of 1e300 over steps of 1e-302)
+/// overflowed and every step was refused.
+#[cold]
+fn scaled_error_norm<const N: usize>(
+    e5: &SVector<f64, N>,
+    e3: &SVector<f64, N>,
+    h: f64,
+    sc: &impl Fn(usize) -> f64,
+) -> f64 {
     let binary = |x: f64| {
         if x.is_finite() {
             crate::eigen::exponent(x)
@@ -100,9 +135,9 @@ fn error_norm<const N: usize>(
     let mut r3 = [0.0; N];
     let mut largest = 0.0_f64;
     for i in 0..N {
-        let sc = tol.atol[i] + tol.rtol[i] * y[i].abs().max(y_new[i].abs());
-        r5[i] = ratio(crate::eigen::ldexp(e5[i], -ke), sc);
-        r3[i] = ratio(crate::eigen::ldexp(e3[i], -ke), sc);
+        let s = sc(i);
+        r5[i] = ratio(crate::eigen::ldexp(e5[i], -ke), s);
+        r3[i] = ratio(crate::eigen::ldexp(e3[i], -ke), s);
         largest = largest.max(r5[i].abs()).max(r3[i].abs());
     }
     let k = binary(largest);
