@@ -11,7 +11,7 @@ use super::splitting::{Splitting, SplittingOrder};
 use super::state::{Moments, State};
 use super::stepper::{Stepper, Vars};
 use super::system::{pack, Field, Load, NoTorque, System};
-use super::torque::{Segment, Torque};
+use super::torque::{norm_of_any_size, Segment, Torque};
 use crate::error::{finite, positive, Short};
 use crate::exact::FreeRotation;
 use crate::{Error, Result};
@@ -644,10 +644,7 @@ fn run_dop853<S: System<N>, const N: usize>(
                             // |w'| scaled by a power of two first: a rate of 2e155 squared
                             // overflows, and a size of inf was a refused sample (the bits of
                             // the plain norm otherwise).
-                            let rate_w = Vector3::new(f[0], f[1], f[2]);
-                            let k = crate::eigen::exponent(rate_w.amax());
-                            let unit = rate_w.map(|x| crate::eigen::ldexp(x, -k));
-                            let size = crate::eigen::ldexp(unit.norm(), k);
+                            let size = norm_of_any_size(&Vector3::new(f[0], f[1], f[2]));
                             if size.is_finite() {
                                 rate = rate.max(size);
                             }

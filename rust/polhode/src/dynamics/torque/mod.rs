@@ -225,15 +225,22 @@ pub(crate) fn unit_vector(name: &str, v: &Vector3<f64>) -> Result<Vector3<f64>> 
             reason: format!("expected a non-zero vector, got {:?}.", v.as_slice()),
         });
     }
-    let scaled = of_size_one(v);
+    let (scaled, _) = of_size_one(v);
     Ok(scaled / scaled.norm())
 }
 
-/// `v` times the power of two that brings its largest entry to [0.5, 1) (exactly, but for
-/// entries far below the largest); zero stays zero.
-pub(crate) fn of_size_one(v: &Vector3<f64>) -> Vector3<f64> {
+/// `v 2^-k` and `k`, the power of two that brings its largest entry to [0.5, 1) (exactly, but
+/// for entries far below the largest); zero stays zero (`k = 0`).
+pub(crate) fn of_size_one(v: &Vector3<f64>) -> (Vector3<f64>, i32) {
     let k = crate::eigen::exponent(v.amax());
-    v.map(|x| crate::eigen::ldexp(x, -k))
+    (v.map(|x| crate::eigen::ldexp(x, -k)), k)
+}
+
+/// `|v|` without overflow or underflow of its squares: the bits of the plain norm wherever
+/// those neither under- nor overflow (a rate of 2e155 has a norm; its square overflows).
+pub(crate) fn norm_of_any_size(v: &Vector3<f64>) -> f64 {
+    let (scaled, k) = of_size_one(v);
+    crate::eigen::ldexp(scaled.norm(), k)
 }
 
 /// Errors if `torque` depends on the orientation (for the angular-velocity-only integrators).

@@ -149,7 +149,7 @@ impl GravityGradient {
         let k = unit_vector("orbit_normal", &orbit_normal)?;
         finite_vector("radial0", &radial0)?;
         // Its direction only (1e-300 and 1e300 are directions too).
-        let radial = of_size_one(&radial0);
+        let (radial, _) = of_size_one(&radial0);
         let r_norm = radial.norm();
         let in_plane = radial - k * k.dot(&radial);
         let p_norm = in_plane.norm();
