@@ -157,7 +157,7 @@ SIMULATE_CASES = {
         np.linspace(0, 7000, 11),
         {"method": "midpoint", "dt": 1e-3},
     ),
-    "rk4, batch": lambda: (*batch(64), np.linspace(0, 1e4, 11), {"method": "rk4", "dt": 1e-3}),
+    "rk4, batch": lambda: (*batch(64), np.linspace(0, 5e4, 11), {"method": "rk4", "dt": 1e-3}),
     "dop853, batch": lambda: (
         *batch(64),
         np.linspace(0, 1e5, 11),
