@@ -41,11 +41,6 @@ impl SecondMoment {
         self.factor.tr_mul(&self.factor) + Matrix3::identity() * self.isotropic
     }
 
-    /// The trace of `F^T F`, the anisotropic part's size.
-    pub fn anisotropic_trace(&self) -> f64 {
-        self.factor.norm_squared()
-    }
-
     /// `C -> Q C Q^T` for a rotation `Q`.
     pub fn rotated(&self, rotation: &Matrix3<f64>) -> Self {
         Self {
