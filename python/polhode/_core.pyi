@@ -72,7 +72,7 @@ def point_masses_inertia(
     masses: NDArray[np.float64], positions: NDArray[np.float64] | NDArray[np.float32]
 ) -> NDArray[np.float64]: ...
 def principal(
-    inertia: NDArray[np.float64], rtol: float | None = None
+    inertia: NDArray[np.float64], rtol: float | None = None, continuous: bool = False
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]: ...
 def simulate(
     body: NDArray[np.float64] | MassProperties | list[MassProperties],

@@ -129,8 +129,9 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
     degenerate subspace has no preferred axes: they are the orthonormal basis of that subspace
     closest to the previous frame's axes (orthogonal Procrustes), so a symmetric top keeps its
     transverse axes from frame to frame and a spherical frame keeps the previous axes. Frames
-    must be close enough that each axis moves less than about 45 degrees between them; the
-    matching is vectorised, and only degenerate frames are handled one by one.
+    must be close enough that each axis moves less than about 45 degrees between them. The
+    following runs in Rust after the solve (``polhode::series``), a few tens of nanoseconds
+    per frame, degenerate or not, and Ctrl-C stops it.
 
     Parameters
     ----------
@@ -201,14 +202,12 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
         )
     tolerance = None if rtol is None else as_scalar("rtol", rtol)
     try:
-        moments, axes, multiplicity = _core.principal(array, tolerance)
+        moments, axes, multiplicity = _core.principal(array, tolerance, continuous)
     except PolhodeError as error:
         # The core solves one tensor as a batch of one: its error is about no batch's body.
         if array.ndim == 2 and error.body is not None:
             raise error.for_body(None) from None
         raise
-    if continuous:
-        moments, axes, multiplicity = _follow(moments, axes, multiplicity)
     return Principal(moments, axes, multiplicity)
 
 
@@ -278,150 +277,3 @@ def point_masses_inertia(masses: Any, positions: Any) -> NDArray[np.float64]:
     else:
         r = as_float_array("positions", positions)
     return _core.point_masses_inertia(m, r)
-
-
-# --- axes followed along a series -------------------------------------------------------------
-
-# The six permutations of three axes.
-_PERMUTATIONS = np.array([[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]])
-
-
-def _signed_permutations() -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
-    """The 48 signed permutations g = 8 p + (sign bits): for each, the permutation (48, 3),
-    the signs (48, 3), and the table of products ``table[g, h]`` = index of ``Q_g Q_h``.
-
-    ``Q_g`` acts on the columns of a matrix: column j of ``U Q_g`` is ``s_j U[:, p(j)]``.
-    """
-    perms = np.repeat(_PERMUTATIONS, 8, axis=0)
-    bits = np.arange(48) % 8
-    signs = np.where((bits[:, None] >> np.arange(3)) & 1, -1.0, 1.0)
-    q = np.zeros((48, 3, 3))
-    q[np.arange(48)[:, None], perms, np.arange(3)] = signs
-    products = np.einsum("gij,hjk->ghik", q, q).reshape(48 * 48, 9)
-    flat = q.reshape(48, 9)
-    # Each product is a signed permutation: find its index by its (exact, 0/+-1) entries.
-    keys = {tuple(row): g for g, row in enumerate(flat.tolist())}
-    table = np.array([keys[tuple(row)] for row in products.tolist()]).reshape(48, 48)
-    return perms, signs, table
-
-
-_PERMS, _SIGNS, _TABLE = _signed_permutations()
-
-
-def _match(reference: NDArray[np.float64], axes: NDArray[np.float64]) -> NDArray[np.int64]:
-    """For each pair (K, 3, 3) of proper rotations, the signed permutation g with
-    ``axes @ Q_g`` closest to ``reference``: the permutation maximising sum_j |r_j . a_p(j)|,
-    signs making each dot product >= 0.
-
-    The result is always proper (det Q_g = +1): it maximises tr(R^T A Q) over all 48 signed
-    permutations, an improper Q would make R^T A Q an improper orthogonal matrix, whose trace
-    is at most 1, while some proper Q (an element of the octahedral group, which comes within
-    about 63 degrees of any rotation) gives a trace of at least 1 + 2 cos(63 deg) > 1.9.
-    """
-    m = np.matmul(reference.transpose(0, 2, 1), axes)  # m[k, i, j] = r_i . a_j
-    rows = np.arange(3)
-    picked = m[:, rows, _PERMUTATIONS]  # (K, 6, 3): m[k, j, p(j)] for each permutation p
-    best = np.argmax(np.abs(picked).sum(axis=2), axis=1)
-    negative = picked[np.arange(len(m)), best] < 0  # (K, 3)
-    bits = (negative * (1 << rows)).sum(axis=1)
-    return best * 8 + bits
-
-
-def _compose_prefix(first: int, steps: NDArray[np.int64]) -> NDArray[np.int64]:
-    """The products ``P_0 = first``, ``P_t = Q_t P_(t-1)`` for ``steps`` = Q_1 .. Q_K: a
-    Hillis-Steele scan of log2(K) vectorised table lookups."""
-    x = np.concatenate([[first], steps]).astype(np.int64)
-    d = 1
-    while d < len(x):
-        x = np.concatenate([x[:d], _TABLE[x[d:], x[:-d]]])
-        d *= 2
-    return x
-
-
-def _apply(
-    moments: NDArray[np.float64],
-    axes: NDArray[np.float64],
-    multiplicity: NDArray[np.int64],
-    g: NDArray[np.int64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """Columns permuted and signed by the signed permutations ``g`` (one per frame)."""
-    perm = _PERMS[g]
-    signs = _SIGNS[g]
-    new_axes = np.take_along_axis(axes, perm[:, None, :], axis=2) * signs[:, None, :]
-    return (
-        np.take_along_axis(moments, perm, axis=1),
-        new_axes,
-        np.take_along_axis(multiplicity, perm, axis=1),
-    )
-
-
-def _procrustes(
-    moments: NDArray[np.float64],
-    axes: NDArray[np.float64],
-    multiplicity: NDArray[np.int64],
-    previous: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """One degenerate frame's axes closest to ``previous``: each group of equal moments spans a
-    subspace; the slots (previous axes) go to the groups by the permutation with the largest
-    projected energy, and each group's basis is the orthonormal one closest to its slots'
-    previous axes (the orthogonal polar factor of ``U_G^T W_J``).
-
-    The result is proper: it maximises tr(W_prev^T W) over the bases adapted to the groups with
-    that assignment, and among them is the rotation of W_prev that turns its axis nearest the
-    line of a single moment onto that line (by at most 54.7 degrees, so a trace above 2), while
-    an improper W would have a trace of at most 1. (Three equal moments give W = W_prev.)
-    """
-    groups = [np.flatnonzero(moments == value) for value in np.unique(moments)]
-    group_of = np.empty(3, dtype=np.int64)
-    for k, members in enumerate(groups):
-        group_of[members] = k
-    energy = np.array(
-        [
-            [float(np.sum((axes[:, members].T @ previous[:, j]) ** 2)) for members in groups]
-            for j in range(3)
-        ]
-    )  # energy[j, k]: how much of previous axis j lies in group k's subspace
-    scores = energy[np.arange(3), group_of[_PERMUTATIONS]].sum(axis=1)
-    perm = _PERMUTATIONS[int(np.argmax(scores))]
-    new_axes = np.empty((3, 3))
-    for k, members in enumerate(groups):
-        slots = np.flatnonzero(group_of[perm] == k)
-        basis = axes[:, members]
-        u, _, vt = np.linalg.svd(basis.T @ previous[:, slots])
-        new_axes[:, slots] = basis @ (u @ vt)
-    return moments[perm], new_axes, multiplicity[perm]
-
-
-def _follow(
-    moments: NDArray[np.float64],
-    axes: NDArray[np.float64],
-    multiplicity: NDArray[np.int64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """The canonical principal frames of a series re-signed and re-ordered to follow frame 0."""
-    count = len(axes)
-    if count < 2:
-        return moments, axes, multiplicity
-    # Relative matches of consecutive canonical frames, all at once.
-    steps = _match(axes[:-1], axes[1:])
-    degenerate = np.flatnonzero((multiplicity[1:] > 1).any(axis=1)) + 1
-    out_m = np.empty_like(moments)
-    out_a = np.empty_like(axes)
-    out_u = np.empty_like(multiplicity)
-    out_m[0], out_a[0], out_u[0] = moments[0], axes[0], multiplicity[0]
-    start = 1
-    for stop in [*degenerate.tolist(), count]:
-        # Frames start .. stop-1 have distinct moments: frame `start` is matched to the frame
-        # before it as it was output, the rest through the relative matches.
-        if stop > start:
-            first = int(_match(out_a[start - 1 : start], axes[start : start + 1])[0])
-            g = _compose_prefix(first, steps[start : stop - 1])
-            span = slice(start, stop)
-            out_m[span], out_a[span], out_u[span] = _apply(
-                moments[span], axes[span], multiplicity[span], g
-            )
-        if stop < count:
-            out_m[stop], out_a[stop], out_u[stop] = _procrustes(
-                moments[stop], axes[stop], multiplicity[stop], out_a[stop - 1]
-            )
-        start = stop + 1
-    return out_m, out_a, out_u

@@ -348,12 +348,13 @@ fn checked_rtol(rtol: Option<f64>) -> PyResult<f64> {
 /// Principal moments, axes and multiplicities of a tensor (3, 3) or a batch (N, 3, 3), in
 /// parallel with the GIL released.
 #[pyfunction]
-#[pyo3(signature = (inertia, rtol=None))]
+#[pyo3(signature = (inertia, rtol=None, continuous=false))]
 #[allow(clippy::type_complexity)]
 pub fn principal<'py>(
     py: Python<'py>,
     inertia: PyReadonlyArrayDyn<'py, f64>,
     rtol: Option<f64>,
+    continuous: bool,
 ) -> PyResult<(
     Bound<'py, PyArrayDyn<f64>>,
     Bound<'py, PyArrayDyn<f64>>,
@@ -395,7 +396,7 @@ pub fn principal<'py>(
         let moments_out = moments_view.as_slice_mut().map_err(contiguous)?;
         let axes_out = axes_view.as_slice_mut().map_err(contiguous)?;
         let multiplicity_out = multiplicity_view.as_slice_mut().map_err(contiguous)?;
-        let long = n > 2 * polhode::eigen::BATCH_CHUNK;
+        let long = n > 2 * polhode::eigen::BATCH_CHUNK || (continuous && n > 1 << 14);
         watched(py, long, |monitor| {
             polhode::eigen::principal_batch_monitored(
                 slice,
@@ -411,7 +412,16 @@ pub fn principal<'py>(
                 } else {
                     e
                 }
-            })
+            })?;
+            if continuous {
+                polhode::series::follow_principal_batch(
+                    moments_out,
+                    axes_out,
+                    multiplicity_out,
+                    monitor,
+                )?;
+            }
+            Ok(())
         })?;
     }
     Ok((moments, axes, multiplicity))

@@ -31,6 +31,7 @@ pub mod eigen;
 mod error;
 pub mod exact;
 pub mod mass;
+pub mod series;
 mod simd;
 pub mod simulation;
 

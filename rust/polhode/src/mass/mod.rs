@@ -221,8 +221,9 @@ impl MassProperties {
 
     /// The inertia tensor about the centre of mass, in body axes: `I = tr(C) 1 - C`.
     ///
-    /// Componentwise accurate: each entry is formed from terms of one sign (see
-    /// [`inertia_from_factor`]), so a needle's or a plate's near-zero moment keeps its digits
+    /// Componentwise accurate: each entry is formed from terms of one sign
+    /// (`I_ii = 2 c + sum_{j != i} |F e_j|^2`, `I_ij = -(F e_i) . (F e_j)` for the second moment
+    /// `c 1 + F^T F`), so a needle's or a plate's near-zero moment keeps its digits
     /// (`tr(C) - C_zz` lost them to cancellation). Formed in units of a power of two (exactly),
     /// so that no intermediate square or trace overflows or underflows where the tensor itself
     /// does not.
