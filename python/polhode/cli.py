@@ -775,7 +775,8 @@ _LABEL = 21  # the width of the labels of `polhode inertia`'s text output
 
 def _file_kind(args: argparse.Namespace) -> str:
     """``mesh``, ``urdf``, ``mjcf`` or ``molecule`` (``--format`` means a molecule)."""
-    from polhode.io import MESH_FORMATS, _format_of
+    from polhode.io import MESH_FORMATS
+    from polhode.io._links import format_of
 
     if args.format is not None:
         return "molecule"
@@ -783,7 +784,7 @@ def _file_kind(args: argparse.Namespace) -> str:
     if extension in MESH_FORMATS:
         return "mesh"
     if extension in ROBOT_EXTENSIONS:
-        return _format_of(args.file)
+        return format_of(args.file)
     return "molecule"
 
 
@@ -920,12 +921,13 @@ def _formula(symbols: list[str]) -> str:
 def _molecule(args: argparse.Namespace, result: dict[str, Any]) -> tuple[ph.Body, Any]:
     """The molecule (the file's first frame), its rotational constants put in ``result``, and
     with --frames the principal axes of every frame, followed in time (else None)."""
-    from polhode.molecule import _masses, asymmetry, rotational_constants, rotor_type
+    from polhode._atoms import atom_masses
+    from polhode.molecule import asymmetry, rotational_constants, rotor_type
 
     choice = args.masses or "most_abundant"
     symbols, positions = _read_molecule(args, every_frame=args.frames is not None)
     try:
-        _, masses = _masses(symbols, choice)
+        _, masses = atom_masses(symbols, choice)
     except ph.PolhodeError as error:  # an element the table does not know, or has no mass for
         raise ph.FileFormatError(
             f"{args.file}: {error.message}", path=args.file, field=error.argument
@@ -1327,7 +1329,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     inertia_parser.add_argument(
         "--unit",
-        choices=ph.molecule._UNITS,
+        choices=ph.molecule.UNITS,
         help="molecule: the unit of the rotational constants (default MHz)",
     )
     inertia_parser.add_argument(
