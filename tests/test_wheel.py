@@ -57,7 +57,16 @@ def test_one_abi3_wheel_with_the_extension_and_the_package(wheel):
     with zipfile.ZipFile(wheel) as archive:
         names = archive.namelist()
     assert any(n.startswith("polhode/_core") and n.endswith(".abi3.so") for n in names), names
-    for module in ("__init__.py", "bodies.py", "plot.py", "py.typed", "_core.pyi"):
+    # The package's modules and its subpackages (the front ends), the stubs and the marker.
+    for module in (
+        "__init__.py",
+        "bodies.py",
+        "io/__init__.py",
+        "cli/__init__.py",
+        "plot/__init__.py",
+        "py.typed",
+        "_core.pyi",
+    ):
         assert f"polhode/{module}" in names
     assert not any(n.endswith(".rs") for n in names)  # no Rust source in a wheel
 

@@ -8,6 +8,7 @@ Mass properties and principal axes (:class:`Body`, :func:`principal`), molecules
 
 from polhode import errors, io, molecule, plot, rotors, torque
 from polhode._core import cancel_all
+from polhode._version import __version__ as __version__
 from polhode.analysis import Analysis, analyze
 from polhode.bodies import Body
 from polhode.errors import (
@@ -52,4 +53,3 @@ __all__ = [
     "simulate",
     "torque",
 ]
-__version__ = "0.1.0"

@@ -1,4 +1,5 @@
-"""Input coercion shared by the Python layer: array-likes to float64, rotations to matrices.
+"""Input coercion shared by the Python layer: array-likes to float64, rotations to matrices,
+a mesh's faces, scale and amount of matter.
 
 Errors name the argument and say what was expected and what came, in the form
 ``Expected `name` to have shape (3,), got (2,).``
@@ -6,24 +7,28 @@ Errors name the argument and say what was expected and what came, in the form
 
 from __future__ import annotations
 
+import math
 import numbers
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode.errors import ArgumentError, NonFiniteError, ShapeError
+from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
 
 #: float64's dtype: numpy keeps one instance of each built-in dtype.
 _FLOAT64 = np.dtype(np.float64)
 
 __all__ = [
     "as_array",
+    "as_faces",
     "as_flag",
     "as_float_array",
     "as_integer",
     "as_rotation_matrix",
     "as_scalar",
+    "as_scale",
+    "density_or_mass",
 ]
 
 
@@ -188,3 +193,74 @@ def as_integer(
     if minimum is not None and result < minimum:
         raise ArgumentError(f"Expected `{name}` to be >= {minimum}, got {result}.", argument=name)
     return result
+
+
+def as_faces(faces: Any) -> NDArray[np.int64]:
+    """(M, 3) integer vertex indices as a C-contiguous int64 array."""
+    if faces is None or isinstance(faces, str | bytes):
+        raise TypeError(
+            f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
+        )
+    try:
+        array = np.asarray(faces)
+    except (TypeError, ValueError) as error:
+        raise TypeError(
+            f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
+        ) from error
+    if array.dtype.kind not in "iu" and not (array.size == 0 and array.dtype.kind == "f"):
+        raise TypeError(f"Expected `faces` to be an array of integers, got dtype {array.dtype}.")
+    if array.ndim != 2 or array.shape[1] != 3:
+        shape = "(" + ", ".join(str(d) for d in array.shape) + (",)" if array.ndim == 1 else ")")
+        raise ShapeError(f"Expected `faces` to have shape (M, 3), got {shape}.", argument="faces")
+    if array.dtype.kind == "u" and array.size and int(array.max()) > np.iinfo(np.int64).max:
+        raise ArgumentError(
+            f"Expected `faces` to hold vertex indices, got {int(array.max())}.", argument="faces"
+        )
+    return np.ascontiguousarray(array, dtype=np.int64)
+
+
+def density_or_mass(
+    density: Any, mass: Any, *, required: bool
+) -> tuple[float | None, float | None]:
+    """Check ``density`` and ``mass``: at most one (exactly one if ``required``), a finite
+    positive number."""
+    if density is not None and mass is not None:
+        raise ArgumentError("Give exactly one of `density` and `mass`, got both.", argument="mass")
+    if required and density is None and mass is None:
+        raise ArgumentError(
+            "Give exactly one of `density` and `mass`, got neither.", argument="density"
+        )
+    out: list[float | None] = []
+    for name, value in (("density", density), ("mass", mass)):
+        if value is None:
+            out.append(None)
+            continue
+        x = as_scalar(name, value)
+        if not math.isfinite(x):
+            raise NonFiniteError(f"Expected `{name}` to be finite, got {x}.", argument=name)
+        if x <= 0:
+            raise NonPositiveError(f"Expected `{name}` to be positive, got {x:g}.", argument=name)
+        out.append(x)
+    return out[0], out[1]
+
+
+def as_scale(value: Any, name: str = "scale") -> NDArray[np.float64]:
+    """A scale factor: one number or three (per axis), finite and non-zero (a negative factor
+    mirrors the mesh)."""
+    array = as_float_array(name, value)
+    if array.shape in ((), (1,)):  # ascontiguousarray makes a number (1,)
+        array = np.full(3, float(array.reshape(-1)[0]))
+    if array.shape != (3,):
+        raise ShapeError(
+            f"Expected `{name}` to be a number or 3 numbers, got shape {array.shape}.",
+            argument=name,
+        )
+    if not np.all(np.isfinite(array)):
+        raise NonFiniteError(
+            f"Expected `{name}` to be finite, got {array.tolist()}.", argument=name
+        )
+    if np.any(array == 0):
+        raise ArgumentError(
+            f"Expected `{name}` to be non-zero, got {array.tolist()}.", argument=name
+        )
+    return array

@@ -14,11 +14,11 @@ from numpy.typing import NDArray
 from polhode import _core, _display
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_scalar
-from polhode.bodies import Body
+from polhode._inputs import EYE as _EYE
+from polhode._inputs import core_body as _simulation_body
+from polhode._inputs import principal_frame as _principal_frame
 from polhode.errors import ArgumentError, ShapeError
-from polhode.principal_axes import principal
 from polhode.rotors import SphericalDamper, as_rotors, nutation_rate
-from polhode.simulation import _body as _simulation_body
 
 __all__ = ["Analysis", "analyze"]
 
@@ -175,30 +175,6 @@ def _rate(what: str, value: Fraction | float) -> float:
 _ABOUT = {0: "about_smallest_axis", 2: "about_largest_axis"}
 
 
-def _merged(moments: NDArray[np.float64], rtol: float | None) -> NDArray[np.float64]:
-    """Principal moments given as numbers, those whose gap is at most ``rtol`` times the
-    largest replaced by their mean (none without ``rtol``: numbers are taken as they are)."""
-    if rtol is None:
-        return moments
-    out = moments.copy()
-    order = np.argsort(out, kind="stable")
-    tolerance = rtol * float(np.max(np.abs(out)))
-    groups: list[list[int]] = [[int(order[0])]]
-    for a, b in zip(order[:-1], order[1:], strict=True):
-        if out[b] - out[a] <= tolerance:
-            groups[-1].append(int(b))
-        else:
-            groups.append([int(b)])
-    for group in groups:
-        out[group] = float(np.mean(moments[group]))
-    return out
-
-
-#: The axes of principal moments given as numbers (read-only: returned, never written).
-_EYE = np.eye(3)
-_EYE.flags.writeable = False
-
-
 #: The two other axes of each axis.
 _OTHERS = ((1, 2), (0, 2), (0, 1))
 
@@ -214,32 +190,6 @@ def _order3(m: list[float]) -> tuple[int, int, int]:
     if a <= c:
         return (1, 0, 2)
     return (1, 2, 0) if b <= c else (2, 1, 0)
-
-
-def _principal_frame(
-    body: Any, rtol: float | None, coerced: Any = None
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The principal moments (as given, or ascending) and axes (columns, body coordinates)
-    of one body: a Body, principal moments (3,) or an inertia tensor (3, 3); moments within
-    ``rtol`` returned equal. ``coerced``, if an array, is ``body`` already coerced (what
-    ``polhode.simulation._body`` gives for numbers): not coerced again."""
-    if type(coerced) is np.ndarray:
-        array = coerced
-    elif isinstance(body, Body):
-        p = body.principal(rtol)
-        return p.moments, p.axes
-    else:
-        array = _as_float_array("body", body)
-    if array.shape == (3,):
-        return (array if rtol is None else _merged(array, rtol)), _EYE
-    if array.shape == (3, 3):
-        p = principal(array, rtol)
-        return p.moments, p.axes
-    raise ShapeError(
-        "Expected `body` to be one body (a Body, principal moments (3,) or an inertia tensor "
-        f"(3, 3)), got shape {array.shape}.",
-        argument="body",
-    )
 
 
 def analyze(

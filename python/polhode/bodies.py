@@ -2,22 +2,16 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core, _display, _shapes
-from polhode._coerce import as_array, as_flag, as_rotation_matrix, as_scalar
-from polhode.errors import (
-    ArgumentError,
-    InertiaError,
-    NonFiniteError,
-    NonPositiveError,
-    PolhodeError,
-    ShapeError,
-)
+from polhode import _core, _display, _formats, _shapes, _spatial
+from polhode._atoms import atom_masses, atoms_of
+from polhode._coerce import as_array, as_faces, as_flag, as_rotation_matrix, as_scalar
+from polhode._meshes import read_bodies
+from polhode.errors import ArgumentError, ShapeError
 from polhode.principal_axes import Principal
 
 __all__ = ["SPATIAL_CONVENTIONS", "Body"]
@@ -25,66 +19,6 @@ __all__ = ["SPATIAL_CONVENTIONS", "Body"]
 #: Block orders of :meth:`Body.spatial_inertia`: Featherstone's and Drake's angular first,
 #: Pinocchio's linear first.
 SPATIAL_CONVENTIONS = ("featherstone", "drake", "pinocchio")
-
-
-_URDF_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-
-
-def _numbers(values: Any) -> str:
-    """Space-separated shortest round-trip decimals."""
-    return " ".join(repr(float(v)) for v in values)
-
-
-def _fixed_axis_rpy(matrix: NDArray[np.float64]) -> tuple[float, float, float]:
-    """Roll, pitch, yaw (fixed axes: R = Rz(yaw) Ry(pitch) Rx(roll)) of a rotation matrix,
-    with pitch in [-pi/2, pi/2].
-
-    The yaw comes from the first column (cos p (cos y, sin y, .)); the matrix is then turned
-    back by that yaw, Rz(-y) R = Ry(p) Rx(r), and pitch and roll read from that product. Near
-    gimbal lock (cos p -> 0) the yaw alone is ill-determined, but the roll is taken from the
-    matrix with that very yaw removed, so the three angles reproduce R to rounding; at gimbal
-    lock exactly the yaw is whatever atan2 gives for the round-off (0 for exact zeros) and the
-    roll carries the rest. No warning either way (scipy's as_euler warns there).
-    """
-    r = np.asarray(matrix, dtype=float)
-    yaw = math.atan2(r[1, 0], r[0, 0])
-    c, s = math.cos(yaw), math.sin(yaw)
-    # Rows of Rz(-yaw) R: [c s 0; -s c 0; 0 0 1] R.
-    m00 = c * r[0, 0] + s * r[1, 0]
-    m11 = -s * r[0, 1] + c * r[1, 1]
-    m12 = -s * r[0, 2] + c * r[1, 2]
-    pitch = math.atan2(-r[2, 0], m00)
-    roll = math.atan2(-m12, m11)
-    return roll, pitch, yaw
-
-
-def _cross_matrix(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """[v]: the matrix of the cross product, [v] w = v x w."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def _as_faces(faces: Any) -> NDArray[np.int64]:
-    """(M, 3) integer vertex indices as a C-contiguous int64 array."""
-    if faces is None or isinstance(faces, str | bytes):
-        raise TypeError(
-            f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
-        )
-    try:
-        array = np.asarray(faces)
-    except (TypeError, ValueError) as error:
-        raise TypeError(
-            f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
-        ) from error
-    if array.dtype.kind not in "iu" and not (array.size == 0 and array.dtype.kind == "f"):
-        raise TypeError(f"Expected `faces` to be an array of integers, got dtype {array.dtype}.")
-    if array.ndim != 2 or array.shape[1] != 3:
-        shape = "(" + ", ".join(str(d) for d in array.shape) + (",)" if array.ndim == 1 else ")")
-        raise ShapeError(f"Expected `faces` to have shape (M, 3), got {shape}.", argument="faces")
-    if array.dtype.kind == "u" and array.size and int(array.max()) > np.iinfo(np.int64).max:
-        raise ArgumentError(
-            f"Expected `faces` to hold vertex indices, got {int(array.max())}.", argument="faces"
-        )
-    return np.ascontiguousarray(array, dtype=np.int64)
 
 
 class Body:
@@ -160,7 +94,7 @@ class Body:
         far from the origin keeps its digits.
         """
         v = as_array("vertices", vertices, (None, 3))
-        f = _as_faces(faces)
+        f = as_faces(faces)
         return cls(
             _core.MassProperties.mesh(
                 v,
@@ -318,14 +252,7 @@ class Body:
         The six numbers are tensor elements about the centre of mass in body axes (products of
         inertia as tensor elements, I_xy = -sum m x y), as MuJoCo reads them.
         """
-        xx, yy, zz, xy, xz, yz = as_array("fullinertia", fullinertia, (6,))
-        tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-        # The six numbers as the tensor: its errors name `fullinertia` (the element, for a
-        # non-finite one), the argument given.
-        order = {(0, 0): 0, (1, 1): 1, (2, 2): 2, (0, 1): 3, (0, 2): 4, (1, 2): 5}
-        return cls._from_six(
-            mass, tensor, center_of_mass, lambda i, j: f"fullinertia[{order[i, j]}]", "fullinertia"
-        )
+        return _formats.from_fullinertia(cls, mass, fullinertia, center_of_mass)
 
     @classmethod
     def from_urdf_inertia(
@@ -342,33 +269,8 @@ class Body:
     ) -> Body:
         """A body from URDF/SDF ``<inertia ixx ixy ixz iyy iyz izz>`` (tensor elements about
         the centre of mass, in body axes: an ``<origin>`` with ``rpy="0 0 0"``)."""
-        v = [
-            as_scalar(n, x) for n, x in zip(_URDF_KEYS, (ixx, ixy, ixz, iyy, iyz, izz), strict=True)
-        ]
-        tensor = np.array([[v[0], v[1], v[2]], [v[1], v[3], v[4]], [v[2], v[4], v[5]]])
-        keys = {(0, 0): "ixx", (0, 1): "ixy", (0, 2): "ixz", (1, 1): "iyy", (1, 2): "iyz",
-                (2, 2): "izz"}
-        return cls._from_six(mass, tensor, center_of_mass, lambda i, j: keys[i, j], "inertia")
-
-    @classmethod
-    def _from_six(
-        cls, mass: float, tensor: Any, center_of_mass: Any, element: Any, whole: str
-    ) -> Body:
-        """from_inertia on a tensor made of six numbers, its errors renamed after them: a
-        non-finite element by ``element(i, j)`` (i <= j), the tensor as a whole by ``whole``."""
-        try:
-            return cls.from_inertia(mass, tensor, center_of_mass)
-        except PolhodeError as error:
-            if error.argument != "inertia":
-                raise
-            message = error.message
-            for i in range(3):
-                for j in range(3):
-                    name = element(min(i, j), max(i, j))
-                    message = message.replace(f"`inertia[{i}, {j}]`", f"`{name}`")
-            message = message.replace("`inertia`", f"`{whole}`")
-            first = message.split("`")[1] if "`" in message else whole
-            raise type(error)(message, argument=first.split("[")[0], body=error.body) from None
+        elements = (ixx, ixy, ixz, iyy, iyz, izz)
+        return _formats.from_urdf_inertia(cls, mass, elements, center_of_mass)
 
     # --- molecules ------------------------------------------------------------------------
 
@@ -425,9 +327,7 @@ class Body:
         >>> ph.Body.from_atoms([8, 1, 1], positions).mass == water.mass  # atomic numbers
         True
         """
-        from polhode.molecule import _masses
-
-        labels, values = _masses(symbols, masses)
+        labels, values = atom_masses(symbols, masses)
         r = as_array("positions", positions, (None, 3))
         if r.shape[0] != len(labels):
             raise ShapeError(
@@ -493,9 +393,7 @@ class Body:
         >>> rotor_type(ph.Body.from_molecule(ase.build.molecule("NH3")))
         'oblate'
         """
-        from polhode.molecule import _atoms_of
-
-        labels, positions = _atoms_of(molecule, format, conformer)
+        labels, positions = atoms_of(molecule, format, conformer)
         return cls.from_atoms(labels, positions, masses=masses)
 
     # --- properties -----------------------------------------------------------------------
@@ -558,26 +456,17 @@ class Body:
 
         Tensor elements about the centre of mass in body axes (I_xy = -sum m x y).
         """
-        i = self.inertia
-        return np.array([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]])
+        return _formats.fullinertia(self.inertia)
 
     def to_urdf_inertia(self) -> dict[str, float]:
         """URDF/SDF ``<inertia>`` attributes {ixx, ixy, ixz, iyy, iyz, izz}: tensor elements
         about the centre of mass in body axes (I_xy = -sum m x y)."""
-        i = self.inertia
-        values = (i[0, 0], i[0, 1], i[0, 2], i[1, 1], i[1, 2], i[2, 2])
-        return {k: float(v) for k, v in zip(_URDF_KEYS, values, strict=True)}
+        return _formats.urdf_inertia(self.inertia)
 
     def to_mjcf(self) -> str:
         """A MuJoCo ``<inertial>`` element: centre of mass, the principal frame as a ``quat``
         (w, x, y, z, MuJoCo's order) and the principal moments as ``diaginertia``."""
-        p = self.principal()
-        w_last = p.rotation.as_quat()
-        quat = (w_last[3], w_last[0], w_last[1], w_last[2])
-        return (
-            f'<inertial pos="{_numbers(self.center_of_mass)}" quat="{_numbers(quat)}" '
-            f'mass="{_numbers([self.mass])}" diaginertia="{_numbers(p.moments)}"/>'
-        )
+        return _formats.mjcf_inertial(self)
 
     def to_urdf_inertial(self) -> str:
         """A URDF ``<inertial>`` element: the centre of mass and the principal frame as the
@@ -586,16 +475,7 @@ class Body:
 
         The angles reproduce the principal frame to rounding, gimbal lock (pitch = +-pi/2)
         included, where the yaw is chosen from the round-off and the roll carries the rest."""
-        p = self.principal()
-        rpy = _fixed_axis_rpy(p.axes)
-        m = [repr(float(x)) for x in p.moments]
-        return (
-            "<inertial>\n"
-            f'  <origin xyz="{_numbers(self.center_of_mass)}" rpy="{_numbers(rpy)}"/>\n'
-            f'  <mass value="{_numbers([self.mass])}"/>\n'
-            f'  <inertia ixx="{m[0]}" ixy="0" ixz="0" iyy="{m[1]}" iyz="0" izz="{m[2]}"/>\n'
-            "</inertial>"
-        )
+        return _formats.urdf_inertial(self)
 
     # --- mesh files and spatial inertia (polhode.io reads robot descriptions) ---------------
 
@@ -653,10 +533,9 @@ class Body:
         >>> cube.center_of_mass.tolist(), round(float(cube.inertia[0, 0]), 12)
         ([0.25, 0.25, 0.25], 0.25)
         """
-        from polhode.io import read_mesh
-
         parts = list(
-            read_mesh(
+            read_bodies(
+                cls,
                 path,
                 density=density,
                 mass=mass,
@@ -714,43 +593,7 @@ class Body:
                 f"got {convention!r}.",
                 argument="convention",
             )
-        inverse = as_flag("inverse", inverse)
-        p = np.zeros(3) if point is None else as_array("point", point, (3,))
-        m = self.mass
-        c = self.center_of_mass - p
-        cross = _cross_matrix(c)
-        out = np.empty((6, 6))
-        if not inverse:
-            out[:3, :3] = self.inertia_about(p)
-            out[:3, 3:] = m * cross
-            out[3:, :3] = m * cross.T
-            out[3:, 3:] = m * np.eye(3)
-        else:
-            moments, axes, _ = self._core.principal(None)
-            if not moments[0] > 0:
-                raise InertiaError(
-                    "Expected a body with positive principal moments for the inverse spatial "
-                    f"inertia, got {moments.tolist()}: the spatial inertia is singular.",
-                    argument="inverse",
-                )
-            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-                inv = (axes / moments) @ axes.T  # I_c^-1 from the principal axes
-                inv = (inv + inv.T) / 2
-                out[:3, :3] = inv
-                out[:3, 3:] = -inv @ cross
-                out[3:, :3] = cross @ inv
-                lower = np.eye(3) / m - cross @ inv @ cross
-                out[3:, 3:] = (lower + lower.T) / 2
-            if not np.isfinite(out).all():
-                raise InertiaError(
-                    "The inverse spatial inertia overflows double precision: the smallest "
-                    f"principal moment is {moments[0]:.6g} (mass {m:.6g}, centre of mass "
-                    f"{np.linalg.norm(c):.6g} from the point).",
-                    argument="inverse",
-                )
-        if convention == "pinocchio":
-            out = np.block([[out[3:, 3:], out[3:, :3]], [out[:3, 3:], out[:3, :3]]])
-        return out
+        return _spatial.spatial_inertia(self, point, inverse, convention == "pinocchio")
 
     @classmethod
     def from_spatial_inertia(
@@ -804,79 +647,7 @@ class Body:
                 f"got {convention!r}.",
                 argument="convention",
             )
-        s = as_array("matrix", matrix, (6, 6))
-        tolerance = as_scalar("rtol", rtol)
-        if not (math.isfinite(tolerance) and tolerance >= 0):
-            raise ArgumentError(
-                f"Expected `rtol` to be a finite number >= 0, got {tolerance}.", argument="rtol"
-            )
-        p = np.zeros(3) if point is None else as_array("point", point, (3,))
-        if not np.all(np.isfinite(s)):
-            raise NonFiniteError(
-                "Expected `matrix` to be finite, got a NaN or an infinity.", argument="matrix"
-            )
-        if convention == "pinocchio":
-            s = np.block([[s[3:, 3:], s[3:, :3]], [s[:3, 3:], s[:3, :3]]])
-        bound = tolerance * float(np.abs(s).max())
-        asymmetry = float(np.abs(s - s.T).max())
-        if asymmetry > bound:
-            raise InertiaError(
-                f"Expected `matrix` to be symmetric, got |S - S^T| up to {asymmetry:.3g} "
-                f"(tolerance {bound:.3g}).",
-                argument="matrix",
-            )
-        lower = s[3:, 3:]
-        m = float(np.median(np.diag(lower)))  # exact when the three agree
-        if not m > 0:
-            raise NonPositiveError(
-                f"Expected `matrix` to have a positive mass m in its m 1 block, got {m:g}.",
-                argument="matrix",
-            )
-        if float(np.abs(lower - m * np.eye(3)).max()) > bound:
-            raise InertiaError(
-                "Expected the mass block of `matrix` to be m times the identity, got "
-                f"{lower.tolist()}.",
-                argument="matrix",
-            )
-        coupling = (s[:3, 3:] + s[3:, :3].T) / 2
-        if float(np.abs(coupling + coupling.T).max()) > bound:
-            raise InertiaError(
-                "Expected the coupling block of `matrix` to be m [c] (skew-symmetric), got "
-                f"{coupling.tolist()}.",
-                argument="matrix",
-            )
-        c = np.array(
-            [
-                coupling[2, 1] - coupling[1, 2],
-                coupling[0, 2] - coupling[2, 0],
-                coupling[1, 0] - coupling[0, 1],
-            ]
-        ) / (2 * m)
-        cross = _cross_matrix(c)
-        upper = (s[:3, :3] + s[:3, :3].T) / 2
-        about_center = upper - m * cross @ cross.T
-        about_center = (about_center + about_center.T) / 2
-        try:
-            return cls.from_inertia(m, about_center, p + c)
-        except InertiaError as error:
-            # Recovering I_c = I_p - m [c][c]^T leaves rounding of about eps ||I_p||: a point
-            # mass, a rod or a flat body away from the point (a zero moment, or the triangle
-            # inequality with equality) came out a hair outside the valid tensors, and their
-            # own spatial inertia was refused. Within 16 eps ||I_p|| of valid, the moments are
-            # put back on the boundary (a change of that size, the recovery's own error).
-            slack = 16 * np.finfo(float).eps * float(np.abs(upper).max())
-            moments, axes = np.linalg.eigh(about_center)
-            if moments[0] >= -slack and moments[2] - moments[0] - moments[1] <= slack:
-                moments = np.maximum(moments, 0.0)
-                moments[2] = min(moments[2], moments[0] + moments[1])
-                repaired = (axes * moments) @ axes.T
-                return cls.from_inertia(m, (repaired + repaired.T) / 2, p + c)
-            raise InertiaError(
-                "Expected `matrix` to be the spatial inertia of a body, but the rotational "
-                f"inertia about the centre of mass it implies is not an inertia tensor: "
-                f"{error.message}",
-                argument="matrix",
-            ) from error
+        return _spatial.from_spatial_inertia(cls, matrix, point, rtol, convention == "pinocchio")
 
     # --- moving and combining -------------------------------------------------------------
 

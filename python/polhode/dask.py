@@ -46,12 +46,12 @@ except ImportError as error:  # pragma: no cover - exercised only without the ex
 
 from dask.callbacks import Callback
 
-import polhode
-from polhode import _core
+from polhode import _core, analysis, simulation
+from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
 from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
 from polhode.rotors import as_rotors
-from polhode.simulation import OUTPUTS, Trajectory, _as_float_array
+from polhode.simulation import OUTPUTS, Trajectory
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
 
@@ -77,7 +77,7 @@ class _CancelOnInterrupt(Callback):  # type: ignore[misc]
     def _finish(self, dsk: Any, state: Any, errored: bool) -> None:
         # Called from the scheduler's `finally`: the exception on its way out is visible here.
         if errored and isinstance(sys.exc_info()[1], KeyboardInterrupt):
-            polhode.cancel_all()
+            _core.cancel_all()
 
 
 _CancelOnInterrupt().register()
@@ -105,7 +105,7 @@ def _interruptible(run: Callable[..., _T], *collections: Any, **kwargs: Any) -> 
     try:
         return run(*collections, **kwargs)
     except KeyboardInterrupt:
-        polhode.cancel_all()
+        _core.cancel_all()
         client = _distributed_client(kwargs.get("scheduler"), collections)
         if client is not None:
             try:
@@ -433,7 +433,7 @@ def _simulate_block(
             orientation0 = Rotation(orientation0, normalize=False)
         options = {**options, "orientation0": orientation0}
     try:
-        traj = polhode.simulate(moments, omega0, t, **options)
+        traj = simulation.simulate(moments, omega0, t, **options)
     except PolhodeError as error:
         raise _in_block(error, rows) from error
     records = np.empty(moments.shape[0], dtype=record_dtype)
@@ -553,7 +553,7 @@ def simulate(
         options = {**options, "rotors": as_rotors(rotors)}
     # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
     dry_orientation = shared if per_body is None else np.zeros((0, *per_body.shape[1:]))
-    dry = polhode.simulate(
+    dry = simulation.simulate(
         np.zeros((0, 3)), np.zeros((0, 3)), t, orientation0=dry_orientation, **options
     )
     # Numpy values at once: each body at the initial time only (no steps).
@@ -561,7 +561,7 @@ def simulate(
         t0 = options.get("t0", 0.0)
         per_body_now = per_body if isinstance(per_body, np.ndarray) and not stack else None
         rotors_now = options.get("rotors") if isinstance(moments, np.ndarray) else None
-        polhode.simulate(
+        simulation.simulate(
             moments if isinstance(moments, np.ndarray) else np.ones(3),
             omega0 if isinstance(omega0, np.ndarray) else np.zeros((n, 3)),
             [t0],
@@ -643,7 +643,7 @@ def _analyze_block(
         if k % _ANALYZE_LOOK_EVERY == 0 and k and _core.cancel_epoch() != epoch:
             raise CancelledError("polhode.cancel_all() stopped this block.")
         try:
-            a = polhode.analyze(moments[k], omega0[k], rtol, rotors=rotors)
+            a = analysis.analyze(moments[k], omega0[k], rtol, rotors=rotors)
         except PolhodeError as error:
             raise error.for_body(int(rows[k])) from error
         strings = (a.regime, a.linearized["kind"], *a.axis_stability)
@@ -716,7 +716,7 @@ def analyze(
     rotors = None if rotors is None else as_rotors(rotors)
     if isinstance(moments, np.ndarray) and isinstance(omega0, np.ndarray):
         # Numpy values at once, as simulate checks them (no steps; the rotors inside each body).
-        polhode.simulate(moments, omega0, [0.0], method="dop853" if rotors else "exact",
+        simulation.simulate(moments, omega0, [0.0], method="dop853" if rotors else "exact",
                          orientation=False, rotors=rotors)
     row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
     records = da.blockwise(

@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_array, as_float_array, as_scalar
+from polhode._inputs import principal_frame
 from polhode.errors import NonFiniteError, PolhodeError
 
 __all__ = ["Rotor", "SphericalDamper", "Wheel", "as_rotors", "nutation_rate"]
@@ -211,10 +212,8 @@ def as_rotors(rotors: Any) -> tuple[Rotor, ...]:
 
 def _principal(body: Any, omega0: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Ascending principal moments (rotors locked) and omega0 in those axes."""
-    from polhode.analysis import _principal_frame
-
     omega = as_array("omega0", omega0, (3,))
-    moments, axes = _principal_frame(body, None)
+    moments, axes = principal_frame(body, None)
     order = np.argsort(moments, kind="stable")
     return moments[order], (omega @ axes)[order]
 

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from polhode import _core, _display
 from polhode._coerce import as_flag, as_integer, as_scalar
 from polhode._coerce import as_float_array as _as_float_array
-from polhode.bodies import Body
+from polhode._inputs import core_body as _body
 from polhode.errors import ArgumentError, NonFiniteError
 from polhode.rotors import as_rotors
 from polhode.torque import as_torque
@@ -258,18 +258,6 @@ def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float
 
 #: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
 OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
-
-
-def _body(body: Any) -> Any:
-    """What the core takes for ``body``: the core of a Body, a list of them, or numbers."""
-    if type(body) is np.ndarray:
-        # Numbers (neither a Body nor a list): the two checks below skipped, in a small call.
-        return _as_float_array("body", body)
-    if isinstance(body, Body):
-        return body._core
-    if isinstance(body, (list, tuple)) and body and all(isinstance(b, Body) for b in body):
-        return [b._core for b in body]
-    return _as_float_array("body", body)
 
 
 def _available_memory() -> int | None:

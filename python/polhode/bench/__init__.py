@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-import polhode as ph
+from polhode._version import __version__
 from polhode.bench.mass import Versus, eigensolve, mesh, mesh_offset, point_masses
 from polhode.bench.motion import (
     CASES,
@@ -82,7 +82,7 @@ def machine() -> str:
     cpu = platform.processor() or platform.machine()
     return (
         f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-        f"numpy {np.__version__}, polhode {ph.__version__}"
+        f"numpy {np.__version__}, polhode {__version__}"
     )
 
 

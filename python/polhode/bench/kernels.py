@@ -42,10 +42,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-import polhode as ph
+from polhode.analysis import analyze
 from polhode.bench import adapters, mass
 from polhode.bench._timing import interleaved as _interleaved
 from polhode.bench._timing import median as _median
+from polhode.simulation import simulate
 
 Array = NDArray[np.float64]
 
@@ -444,8 +445,8 @@ def exact(times: int = 200_000, repeats: int = 5) -> list[Row]:
     u = rate * t + 0.1
     seconds, _ = _interleaved(
         {
-            "full": lambda: ph.simulate(moments, omega0, t, method="exact"),
-            "omega": lambda: ph.simulate(moments, omega0, t, method="exact", orientation=False),
+            "full": lambda: simulate(moments, omega0, t, method="exact"),
+            "omega": lambda: simulate(moments, omega0, t, method="exact", orientation=False),
             "ellipj": lambda: ellipj(u, m),
         },
         repeats,
@@ -476,20 +477,20 @@ def exact(times: int = 200_000, repeats: int = 5) -> list[Row]:
 
 
 def batch(n: int = 100_000, repeats: int = 5, steps: int = 200) -> list[Row]:
-    """N random bodies (:func:`polhode.bench.motion._random_bodies`), ``steps`` steps of 0.01
+    """N random bodies (:func:`polhode.bench.motion.random_bodies`), ``steps`` steps of 0.01
     with orientation on all cores, by rk4, the splitting (order 4) and the midpoint rule,
     against the numpy structure-of-arrays rk4 (:func:`polhode.bench.adapters.numpy_rk4`, one
     core) on the same bodies and steps. The element is a body-step; 200 steps is the
     workload of :func:`polhode.bench.motion.throughput` at 1e5 bodies, where the issue's
     figures before this work were measured."""
-    from polhode.bench.motion import _random_bodies
+    from polhode.bench.motion import random_bodies
 
     dt = 0.01
-    moments, omega0 = _random_bodies(n, np.random.default_rng(0))
+    moments, omega0 = random_bodies(n, np.random.default_rng(0))
     span = np.array([0.0, steps * dt])
 
     def ours(method: str) -> Callable[[], Any]:
-        return lambda: ph.simulate(moments, omega0, span, method=method, dt=dt)
+        return lambda: simulate(moments, omega0, span, method=method, dt=dt)
 
     seconds, results = _interleaved(
         {
@@ -565,8 +566,8 @@ def small_calls(calls: int = 200, repeats: int = 5) -> list[Row]:
     seconds, _ = _interleaved(
         {
             "rotvec": loop(lambda: Rotation.from_rotvec(rotvec).as_matrix()),
-            "simulate": loop(lambda: ph.simulate(moments, omega0, t)),
-            "analyze": loop(lambda: ph.analyze(moments, omega0)),
+            "simulate": loop(lambda: simulate(moments, omega0, t)),
+            "analyze": loop(lambda: analyze(moments, omega0)),
         },
         repeats,
     )

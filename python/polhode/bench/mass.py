@@ -10,11 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-import polhode as ph
 from polhode.bench import adapters
 from polhode.bench._timing import interleaved as _interleaved
 from polhode.bench._timing import median as _median
 from polhode.bench._timing import spread as _spread
+from polhode.bodies import Body
+from polhode.principal_axes import principal
 
 Array = NDArray[np.float64]
 
@@ -75,7 +76,7 @@ def eigensolve(n: int = 1_000_000, repeats: int = 5) -> list[Versus]:
         times, results = _interleaved(
             {
                 "eigh": lambda t=tensors: np.linalg.eigh(t),
-                "polhode": lambda t=tensors: tuple(ph.principal(t)),
+                "polhode": lambda t=tensors: tuple(principal(t)),
                 "outputs": lambda: _fresh_outputs(n),
             },
             repeats,
@@ -106,7 +107,7 @@ def point_masses(n: int = 10_000_000, repeats: int = 5) -> Versus:
     times, results = _interleaved(
         {
             "numpy": lambda: adapters.point_mass_inertia(m, r),
-            "polhode": lambda: ph.Body.point_masses(m, r).inertia,
+            "polhode": lambda: Body.point_masses(m, r).inertia,
         },
         repeats,
     )
@@ -131,7 +132,7 @@ def mesh(subdivisions: int = 7, repeats: int = 11) -> Versus | None:
     times, results = _interleaved(
         {
             "trimesh": lambda: adapters.trimesh_mass_properties(triangles),
-            "polhode": lambda: ph.Body.mesh(vertices, faces, density=1.0),
+            "polhode": lambda: Body.mesh(vertices, faces, density=1.0),
         },
         repeats,
     )
@@ -154,12 +155,12 @@ def mesh_offset(subdivisions: int = 5, exponents: Sequence[int] = range(0, 9)) -
     if sphere is None:
         return "(trimesh not installed: far-offset comparison left out)"
     vertices, faces = sphere
-    base = ph.Body.mesh(vertices, faces, density=1.0).inertia
+    base = Body.mesh(vertices, faces, density=1.0).inertia
     lines = [f"{'d':>6s} {'polhode':>10s} {'trimesh':>10s}"]
     for exponent in exponents:
         d = 10.0**exponent
         moved = vertices + np.array([d, -0.5 * d, 0.25 * d])
-        ours = ph.Body.mesh(moved, faces, density=1.0).inertia
+        ours = Body.mesh(moved, faces, density=1.0).inertia
         theirs = adapters.trimesh_mass_properties(moved[faces]).inertia
         err = [np.linalg.norm(x - base) / np.linalg.norm(base) for x in (ours, theirs)]
         lines.append(f"1e{exponent:<4d} {err[0]:10.2e} {err[1]:10.2e}")

@@ -19,11 +19,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-import polhode as ph
 from polhode.bench import adapters
 from polhode.bench._timing import median as _median
 from polhode.bench._timing import spread as _spread
 from polhode.invariants import relative_drift
+from polhode.simulation import simulate
 
 Array = NDArray[np.float64]
 
@@ -183,7 +183,7 @@ def _sweeps(
 
     def polhode(**kwargs: Any) -> adapters.Runner:
         def run() -> tuple[Array, Array]:
-            traj = ph.simulate(moments, omega0, span, **kwargs)
+            traj = simulate(moments, omega0, span, **kwargs)
             assert traj.quaternion is not None
             return traj.omega[-1], traj.quaternion[-1]
 
@@ -273,7 +273,7 @@ def work_precision(
         w_ref, q_ref = REFERENCE[case.name]
         reference = (np.array(w_ref), np.array(q_ref))
     else:  # a user's own case: polhode's exact solution is the best reference at hand
-        exact = ph.simulate(case.moments, case.omega0, [0.0, case.t_end], method="exact")
+        exact = simulate(case.moments, case.omega0, [0.0, case.t_end], method="exact")
         assert exact.quaternion is not None
         reference = (exact.omega[-1], exact.quaternion[-1])
     skipped: list[str] = []
@@ -431,7 +431,7 @@ def drift(
     seconds: dict[str, float] = {}
     for name, kwargs in methods.items():
         start = time.perf_counter()
-        traj = ph.simulate(case.moments, case.omega0, t, **kwargs)
+        traj = simulate(case.moments, case.omega0, t, **kwargs)
         seconds[name] = time.perf_counter() - start
         drifts = relative_drift(traj)
         # t0 itself (zero error) is left out of the log-spaced times.
@@ -485,7 +485,7 @@ class Throughput:
         return "\n".join(lines)
 
 
-def _random_bodies(n: int, rng: np.random.Generator) -> tuple[Array, Array]:
+def random_bodies(n: int, rng: np.random.Generator) -> tuple[Array, Array]:
     """Principal moments that satisfy the triangle inequality and random angular velocities."""
     moments = np.sort(rng.uniform(1.0, 2.0, size=(n, 3)), axis=1)
     return moments, rng.normal(size=(n, 3))
@@ -512,7 +512,7 @@ def throughput(
     cost = {"splitting": 4, "midpoint": 2, "dop853": 8, "exact": 8, NUMPY_RK4: 8}
     runs: list[tuple[str, bool, int, Any]] = []
     for n in sizes:
-        moments, omega0 = _random_bodies(n, rng)
+        moments, omega0 = random_bodies(n, rng)
         steps = int(max(10, min(100_000, work // n)))
         names = list(methods) + ([NUMPY_RK4] if peer and n >= NUMPY_RK4_MIN_N else [])
         for method in names:
@@ -560,7 +560,7 @@ def _throughput_run(
         kwargs = {"method": method, "dt": dt}
 
     def call() -> int:
-        traj = ph.simulate(moments, omega0, times, orientation=attitude, **kwargs)
+        traj = simulate(moments, omega0, times, orientation=attitude, **kwargs)
         if method == "exact":
             return n * len(times)
         return int(np.sum(traj.stats["steps"]))

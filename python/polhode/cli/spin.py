@@ -1,0 +1,345 @@
+"""``polhode spin``: simulate one torque-free body, optionally with rotors, and report its motion
+and the drift of its invariants."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import sys
+import time
+from typing import Any
+
+import numpy as np
+
+import polhode as ph
+from polhode import _core
+from polhode._physics import breaks_triangle_inequality, wheel_rate
+from polhode.cli._common import UsageError, body_of, check_file, plots_available
+from polhode.invariants import max_relative_drift
+
+#: The methods that take a fixed step ``--dt``; ``--order`` is the splitting's, ``--rtol``
+#: dop853's.
+FIXED_STEP = tuple(name for name, stepping in _core.METHODS.items() if stepping == "fixed")
+
+
+#: At most this many output times (the trajectory, 8 numbers a time, is kept in memory).
+MAX_POINTS = 10_000_000
+
+
+def _check_plot(path: str) -> None:
+    """matplotlib importable (imported now, before the run is timed) and a file it can write."""
+    if not plots_available():
+        raise UsageError("--plot", "needs matplotlib: pip install 'polhode[plot]'.")
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = FigureCanvasBase.get_supported_filetypes()
+    extension = os.path.splitext(path)[1].lstrip(".").lower()
+    if extension not in formats:
+        raise UsageError(
+            "--plot",
+            "expected an image file name ending in .png or another format matplotlib writes "
+            f"(.{', .'.join(sorted(set(formats) - {'png'}))}), got {path!r}.",
+        )
+    check_file("--plot", path)
+
+
+def _check_spin(args: argparse.Namespace) -> list[ph.rotors.Rotor]:
+    """The combinations argparse cannot check, the rotors and the output files, before any
+    work; returns the rotors (wheels first, then dampers, each in the order given)."""
+    method = args.method
+    rotors = _spin_rotors(args)
+    if args.dt is not None and method not in FIXED_STEP:
+        raise UsageError(
+            "--dt",
+            f"applies to {', '.join(FIXED_STEP[:-1])} and {FIXED_STEP[-1]} only (fixed steps), "
+            f"not to --method {method}.",
+        )
+    if args.dt is None and method in FIXED_STEP:
+        raise UsageError("--dt", f"--method {method} takes a fixed step: give --dt.")
+    if args.order is not None and method != "splitting":
+        raise UsageError("--order", f"applies to --method splitting only, not to {method}.")
+    if args.rtol is not None and method != "dop853" and not (method == "auto" and rotors):
+        raise UsageError(
+            "--rtol",
+            f"applies to --method dop853 only (what auto picks with --wheel or --damper), not "
+            f"to {method}"
+            + (" (the exact solution, without rotors)." if method == "auto" else "."),
+        )
+    if rotors:
+        _check_rotor_method(args, rotors)
+    if args.csv is not None:
+        check_file("--csv", args.csv)
+    if args.plot is not None:
+        _check_plot(args.plot)
+        if args.csv is not None and os.path.abspath(args.csv) == os.path.abspath(args.plot):
+            raise UsageError("--plot", f"{args.plot!r} is also the --csv file.")
+    return rotors
+
+
+#: ``--wheel AX AY AZ INERTIA [RATE0 [TORQUE]]``: the fields of :class:`polhode.rotors.Wheel`
+#: in order (the torque a constant); ``--damper INERTIA DAMPING``: those of
+#: :class:`polhode.rotors.SphericalDamper`.
+WHEEL_FIELDS = ("ax", "ay", "az", "inertia", "rate0", "torque")
+
+
+DAMPER_FIELDS = ("inertia", "damping")
+
+
+def _spin_rotors(args: argparse.Namespace) -> list[ph.rotors.Rotor]:
+    """The rotors of ``--wheel`` and ``--damper`` (wheels first), each checked by the core as
+    it is made: a bad one is a usage error naming its option, its number and its field."""
+    rotors: list[ph.rotors.Rotor] = []
+    for option, groups, make in (
+        ("--wheel", args.wheel, lambda v: ph.rotors.Wheel(v[:3], *v[3:])),
+        ("--damper", args.damper, lambda v: ph.rotors.SphericalDamper(*v)),
+    ):
+        for k, values in enumerate(groups or (), start=1):
+            try:
+                rotors.append(make(values))
+            except ph.PolhodeError as error:
+                numbers = " ".join(f"{v:g}" for v in values)
+                raise UsageError(option, f"{option} {numbers} (number {k}): {error}") from None
+    return rotors
+
+
+def _rotor_option(args: argparse.Namespace) -> str:
+    """The option(s) an error about the rotors as a whole names."""
+    given = [o for o, v in (("--wheel", args.wheel), ("--damper", args.damper)) if v]
+    return " and ".join(given)
+
+
+def _check_rotor_method(args: argparse.Namespace, rotors: list[ph.rotors.Rotor]) -> None:
+    """That ``--method`` takes rotors, as the core says (a run of no body: no work)."""
+    try:
+        _core.simulate(
+            np.zeros((0, 3)),
+            np.zeros((0, 3)),
+            np.zeros(1),
+            method=args.method,
+            dt=args.dt,
+            rotors=rotors,
+        )
+    except ph.PolhodeError as error:
+        if error.argument != "rotors":
+            raise
+        raise UsageError(
+            "--method", f"{args.method} cannot take {_rotor_option(args)}: {error}"
+        ) from None
+
+
+def _rotor_names(rotors: list[ph.rotors.Rotor]) -> list[str]:
+    """``wheel 1``, ``wheel 2``, ``damper 1``, ...: each rotor as the report and the CSV name
+    it."""
+    names, counts = [], {"Wheel": 0, "SphericalDamper": 0}
+    for rotor in rotors:
+        counts[rotor.kind] += 1
+        names.append(f"{'wheel' if rotor.kind == 'Wheel' else 'damper'} {counts[rotor.kind]}")
+    return names
+
+
+def _rotor_report(
+    sol: ph.Trajectory, rotors: list[ph.rotors.Rotor], t_end: float
+) -> list[str]:
+    """The rotors, their rates at the end (relative to the body) and the total energy."""
+    assert sol.rotor_rates is not None
+    lines = []
+    names = _rotor_names(rotors)
+    for name, rotor in zip(names, rotors, strict=True):
+        if isinstance(rotor, ph.rotors.Wheel):
+            axis = rotor.axis / np.linalg.norm(rotor.axis)
+            what = (
+                f"axis {np.array2string(axis, precision=6)}, inertia {rotor.inertia:g}, "
+                f"rate0 {rotor.rate0:g}, torque {rotor.torque:g}"
+            )
+        else:
+            assert isinstance(rotor, ph.rotors.SphericalDamper)
+            what = f"inertia {rotor.inertia:g}, damping {rotor.damping:g}"
+        lines.append(f"  {name:16s} {what}")
+    lines.append(f"rotor rates at t = {t_end:g} (relative to the body, body axes):")
+    for name, rotor, rate in zip(names, rotors, sol.rotor_rates[-1], strict=True):
+        if isinstance(rotor, ph.rotors.Wheel):
+            spin = float(wheel_rate(rotor, rate))
+            lines.append(f"  {name:16s} {spin:.9g}   (about its axis)")
+        else:
+            lines.append(f"  {name:16s} {rate}")
+    return lines
+
+
+def _rotor_columns(rotors: list[ph.rotors.Rotor]) -> list[str]:
+    """The CSV's rotor columns: a wheel's rate about its axis, a damper's relative angular
+    velocity (body axes)."""
+    columns = []
+    for name, rotor in zip(_rotor_names(rotors), rotors, strict=True):
+        stem = name.replace(" ", "")
+        if isinstance(rotor, ph.rotors.Wheel):
+            columns.append(f"{stem}_rate")
+        else:
+            columns += [f"{stem}_rate_x", f"{stem}_rate_y", f"{stem}_rate_z"]
+    return columns
+
+
+def _rotor_values(sol: ph.Trajectory, rotors: list[ph.rotors.Rotor]) -> np.ndarray:
+    """(M, columns) of :func:`_rotor_columns`."""
+    assert sol.rotor_rates is not None
+    parts = []
+    for k, rotor in enumerate(rotors):
+        rate = sol.rotor_rates[:, k]
+        if isinstance(rotor, ph.rotors.Wheel):
+            parts.append(wheel_rate(rotor, rate)[:, None])
+        else:
+            parts.append(rate)
+    return np.column_stack(parts)
+
+
+def run(args: argparse.Namespace) -> int:
+    rotors = _check_spin(args)
+    if args.body:
+        body: Any = body_of(args.body)
+        source = "--body"
+    else:
+        body = np.array(args.moments, dtype=float)
+        source = "--moments"
+    options: dict[str, Any] = {"method": args.method}
+    if args.dt is not None:
+        options["dt"] = args.dt
+    if args.order is not None:
+        options["order"] = args.order
+    if args.rtol is not None:
+        options["rtol"] = args.rtol
+    if rotors:
+        options["rotors"] = rotors
+    omega0 = np.array(args.omega, dtype=float)
+    times = np.linspace(0.0, args.t, args.points)
+    # The option behind each argument an error can name (max_steps: the steps dop853 needed
+    # to reach --t, which has no option of its own).
+    option_of = {
+        "body": source,
+        "omega0": "--omega",
+        "t": "--t",
+        "dt": "--dt",
+        "rtol": "--rtol",
+        "max_steps": "--t",
+        "rotors": _rotor_option(args),
+    }
+    try:
+        a = ph.analyze(body, omega0, rotors=rotors or None)
+        started = time.perf_counter()
+        sol = ph.simulate(body, omega0, times, **options)
+        elapsed = time.perf_counter() - started
+    except ph.PolhodeError as error:
+        if error.argument in option_of:
+            raise UsageError(option_of[error.argument], str(error)) from None
+        raise
+    assert sol.quaternion is not None
+    if source == "--moments" and breaks_triangle_inequality(body):
+        print(
+            f"polhode spin: note: the moments {' '.join(f'{m:g}' for m in body)} break "
+            "I1 + I2 >= I3: Euler's equations hold for them, but no mass distribution has them.",
+            file=sys.stderr,
+        )
+    rest = a.regime == "rest"
+    np.set_printoptions(precision=6, suppress=True)
+    print(f"principal moments  {a.moments}")
+    if rest:
+        print(f"regime             rest (omega0 = 0{'' if rotors else ': the body stays at rest'})")
+    else:
+        print(f"regime             {a.regime}; axis stability {', '.join(a.axis_stability)}")
+    if a.period is not None:
+        print(f"period             {a.period:.9g}   (omega in the body)")
+    if a.flip_interval is not None:
+        print(f"flip interval      {a.flip_interval:.9g}")
+    if a.precession_rate_body is not None:
+        print(f"precession (body)  {a.precession_rate_body:.9g}   (omega about the symmetry axis)")
+    if a.precession_rate_space is not None:
+        print(f"precession (space) {a.precession_rate_space:.9g}   (mean rate about L)")
+    if a.nutation_angle is not None:
+        lo, hi = np.degrees(a.nutation_angle)
+        angle = f"{lo:.6g} deg" if lo == hi else f"{lo:.6g} to {hi:.6g} deg"
+        print(f"nutation angle     {angle}")
+    if rotors:
+        print("(the regime, period and precession above are those of the free body with its")
+        print(" rotors locked, at t = 0; the rotors change the motion)")
+        if a.nutation_rate is not None and a.nutation_time_constant is None:
+            # No spin, or a damper without damping: nothing decays or grows.
+            print(f"nutation rate      {a.nutation_rate:.9g}   (the damper's, linearised: steady)")
+        elif a.nutation_rate is not None:
+            print(
+                f"nutation rate      {a.nutation_rate:.9g}   (the damper's, linearised: "
+                f"{'decays' if a.nutation_rate < 0 else 'grows'}, e-folding time "
+                f"{a.nutation_time_constant:.6g})"
+            )
+        print("rotors:")
+        print("\n".join(_rotor_report(sol, rotors, args.t)))
+    print(f"omega at t = {args.t:g}  {sol.omega[-1]}")
+    print(
+        f"method {sol.stats['method']}: {sol.stats['steps']} steps, "
+        f"{sol.stats['evaluations']} evaluations, {elapsed * 1e3:.2f} ms"
+    )
+    drift = max_relative_drift(sol)
+    # A damper takes energy and a motor gives or takes it: T is then not an invariant.
+    dampers = [
+        name
+        for name, r in zip(_rotor_names(rotors), rotors, strict=True)
+        if isinstance(r, ph.rotors.SphericalDamper) and r.damping > 0
+    ]
+    motors = [
+        f"the motor of {name}"
+        for name, r in zip(_rotor_names(rotors), rotors, strict=True)
+        if isinstance(r, ph.rotors.Wheel) and r.torque != 0
+    ]
+    if rest and not rotors:
+        # T, |L| and L are all zero: the drift is the absolute error (polhode.invariants).
+        print("invariant drift (max absolute error over the run; at rest all are zero):")
+    elif rotors:
+        zero = sol.energy[0] == 0.0 or not np.any(sol.angular_momentum_body[0])
+        what = "max error over the run, absolute where zero at t = 0" if zero else (
+            "max relative error over the run"
+        )
+        print(f"invariant drift ({what}; totals, rotors included):")
+    else:
+        print("invariant drift (max relative error over the run):")
+    if dampers or motors:
+        energy = sol.energy
+        print(
+            f"  energy T         {energy[0]:.9g} -> {energy[-1]:.9g}   (not an invariant: "
+            f"changed by {', '.join(dampers + motors)})"
+        )
+        if not motors:
+            # dT/dt = -c |s - w|^2: a rise is the integration's error.
+            rise = float(np.max(np.diff(energy), initial=0.0)) / abs(float(energy[0]) or 1.0)
+            print(f"                   falls monotonically: largest rise between outputs "
+                  f"{rise:.2e} of T(0)")
+    else:
+        print(f"  energy T         {drift['energy']:.2e}")
+    print(f"  |L|              {drift['angular_momentum_norm']:.2e}")
+    print(f"  L in space       {drift['angular_momentum_space']:.2e}")
+    if args.plot:
+        _spin_plot(sol, args.plot)
+    if args.csv:
+        with open(args.csv, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            header = ["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"]
+            columns = [sol.t, sol.omega, sol.quaternion]
+            if rotors:
+                header += _rotor_columns(rotors)
+                columns.append(_rotor_values(sol, rotors))
+            writer.writerow(header)
+            for row in np.column_stack(columns):
+                writer.writerow([repr(float(x)) for x in row])
+        print(f"trajectory written to {args.csv}")
+    return 0
+
+
+def _spin_plot(sol: ph.Trajectory, path: str) -> None:
+    """omega against time and the invariant drift, side by side, into one image."""
+    from matplotlib.figure import Figure
+
+    from polhode import plot
+
+    figure = Figure(figsize=(12, 4.5), layout="constrained")
+    left, right = figure.subplots(1, 2)
+    plot.omega(sol, ax=left)
+    plot.drift(sol, ax=right)
+    figure.savefig(path, dpi=100)
+    print(f"plot written to {path}")

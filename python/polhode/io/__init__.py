@@ -1,0 +1,47 @@
+"""Files in: triangle meshes, robot descriptions (URDF, MJCF), and an audit of their inertials.
+
+- :func:`read_mesh` reads STL (ascii and binary), OBJ, PLY, OFF and glTF/GLB with trimesh's
+  loaders and returns the meshes of the file as bodies (``Body.from_file`` is their composite).
+- :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (MuJoCo's ``MjSpec``: the values
+  as written, before MuJoCo's compiler changes or rejects them) return one :class:`Body` per link
+  or body, in that link's own frame.
+- :func:`audit` checks every link's declared inertial and its geometry, and returns a
+  :class:`Finding` for each link (``polhode audit FILE`` prints them).
+
+The mass properties are polhode's own (exact mesh integrals, the core's solids); the libraries
+only read the files. They are optional: ``pip install 'polhode[mesh]'`` (trimesh) and
+``'polhode[robots]'`` (yourdfpy and MuJoCo).
+
+A broken file raises :class:`polhode.errors.FileFormatError`, whose message and attributes name
+the file, the link (or body, or mesh part) and the field at fault; a missing file raises
+:class:`FileNotFoundError`.
+
+Examples
+--------
+>>> import polhode as ph
+>>> import polhode.io
+>>> import os, tempfile
+>>> urdf = '''<robot name="r"><link name="arm"><inertial>
+...   <origin xyz="0 0 0.1" rpy="0 0 0"/><mass value="2"/>
+...   <inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.01"/>
+... </inertial></link></robot>'''
+>>> path = os.path.join(tempfile.mkdtemp(), "r.urdf")
+>>> with open(path, "w") as handle:
+...     _ = handle.write(urdf)
+>>> bodies = ph.io.read_urdf(path)
+>>> bodies["arm"].mass, bodies["arm"].center_of_mass.tolist()
+(2.0, [0.0, 0.0, 0.1])
+>>> [(f.link, f.severity) for f in ph.io.audit(path)]
+[('arm', 'ok')]
+"""
+
+from polhode import _meshes
+from polhode.io.audit import Finding, audit
+from polhode.io.mesh import read_mesh
+from polhode.io.mjcf import read_mjcf
+from polhode.io.urdf import read_urdf
+
+__all__ = ["Finding", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_urdf"]
+
+#: The mesh formats :func:`read_mesh` reads (by the file's extension), all through trimesh.
+MESH_FORMATS = _meshes.MESH_FORMATS
