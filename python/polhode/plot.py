@@ -34,6 +34,7 @@ __all__ = [
     "omega",
     "perturbation_error",
     "polhode",
+    "scene",
     "work_precision",
 ]
 
@@ -796,3 +797,6 @@ def animate(
     if path is not None:
         animation.save(path, writer=writer, fps=1000.0 / interval, dpi=dpi)
     return animation
+
+
+from polhode._scene import scene  # noqa: E402  (plotly, imported inside)
