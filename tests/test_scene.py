@@ -283,6 +283,37 @@ def test_legend_titles_units_and_controls(flipping, bar):
     assert slider.currentvalue.suffix == " s"
 
 
+def test_other_units_in_every_label(flipping, bar):
+    fig = plot.scene(flipping, bar, frames=5, units={"time": "min", "length": "mm"})
+    assert fig.layout.scene.xaxis.title.text == "x, space (rad/min)"
+    names = " | ".join(t.name or "" for t in fig.data)
+    assert "kg mm^2/min" in names and "omega (rad/min)" in names and "rad/min per mm" in names
+    assert fig.layout.sliders[0].currentvalue.suffix == " min"
+    assert fig.frames[-1].layout.title.text.endswith(f"t = {flipping.t[-1]:.4g} min")
+    with pytest.raises(ph.ArgumentError, match="angle") as error:
+        plot.scene(flipping, bar, units={"angle": "deg"})
+    assert error.value.argument == "units"
+    with pytest.raises(ph.ArgumentError) as error:
+        plot.scene(flipping, bar, units={"time": ""})
+    assert error.value.argument == "units"
+    with pytest.raises(TypeError, match="units"):
+        plot.scene(flipping, bar, units="SI")
+
+
+def test_output_times_too_far_apart_to_draw_are_said(bar):
+    with pytest.warns(UserWarning, match="has 2 output times"):
+        fig = plot.scene(ph.simulate(bar, OMEGA0, 6.0), bar)
+    assert len(fig.frames) == 2
+    # 61 output times over 60 s: omega turns by more than 20 degrees between two.
+    with pytest.warns(UserWarning, match="more output times"):
+        plot.scene(ph.simulate(bar, OMEGA0, np.linspace(0.0, 60.0, 61)), bar, frames=5)
+    # Dense enough, but only 50 of them drawn.
+    dense = ph.simulate(bar, OMEGA0, np.linspace(0.0, 60.0, 6001))
+    with pytest.warns(UserWarning, match="raise `curve_points`"):
+        plot.scene(dense, bar, frames=5, curve_points=50)
+    plot.scene(dense, bar, frames=5, curve_points=3000)  # no warning (they are errors here)
+
+
 def test_without_a_body_the_trajectorys_moments(flipping):
     moments = [1.0, 2.0, 3.0]
     traj = ph.simulate(moments, [0.3, 1.0, 0.2], np.linspace(0.0, 10.0, 401))

@@ -10,6 +10,8 @@ never needs it.
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -58,6 +60,16 @@ MARK_COLOR = "#ff7f0e"
 #: The words of the principal axes, indexed 0, 1, 2 with the moments ascending.
 AXIS_ROLES = ("smallest", "intermediate", "largest")
 
+#: Largest turn of omega (degrees, in the body or in space) between two points of the curves
+#: before :func:`scene` warns that they are too far apart to draw the curves.
+MAX_TURN = 20.0
+
+#: Fewer output times than this, and :func:`scene` warns that they cannot draw the motion.
+MIN_TIMES = 10
+
+#: The units the labels say by default (SI), by quantity.
+UNITS = {"time": "s", "length": "m", "mass": "kg"}
+
 #: Relative change of L in space above which the figure says that L is not conserved.
 L_TOLERANCE = 1e-6
 
@@ -99,6 +111,27 @@ def _check_trajectory(trajectory: Any) -> Trajectory:
             argument="trajectory",
         )
     return trajectory
+
+
+def _units(units: Any) -> dict[str, str]:
+    """The units of :func:`scene`'s labels: SI, with those given in place."""
+    if units is None:
+        return dict(UNITS)
+    if not isinstance(units, Mapping):
+        raise TypeError(
+            f"Expected `units` to be a dict such as {UNITS}, got {type(units).__name__}."
+        )
+    unknown = sorted(str(k) for k in units if k not in UNITS)
+    if unknown:
+        raise ArgumentError(
+            f"Expected the keys of `units` among {sorted(UNITS)}, got {unknown}.", argument="units"
+        )
+    for key, value in units.items():
+        if not isinstance(value, str) or not value.strip():
+            raise ArgumentError(
+                f"Expected `units[{key!r}]` to be a unit's name, got {value!r}.", argument="units"
+            )
+    return {**UNITS, **{k: str(v).strip() for k, v in units.items()}}
 
 
 def _frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
@@ -381,6 +414,15 @@ def _marked_end(
     return vertices, faces, part_of[source], capped, point
 
 
+def _largest_turn(vectors: Array) -> float:
+    """The largest angle (degrees) between consecutive rows."""
+    if len(vectors) < 2:
+        return 0.0
+    a, b = vectors[:-1], vectors[1:]
+    cross = np.linalg.norm(np.cross(a, b), axis=1)
+    return float(np.degrees(np.max(np.arctan2(cross, np.einsum("ij,ij->i", a, b)))))
+
+
 def _plane_disc(centre: Array, e1: Array, e2: Array, radius: float, n: int = 48) -> Array:
     """Vertices of a disc: its centre, then n points of its rim."""
     phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
@@ -441,6 +483,7 @@ def scene(
     max_vertices: int = 3000,
     frame_duration: float = 60.0,
     dtype: Any = np.float32,
+    units: Mapping[str, str] | None = None,
     path: str | None = None,
 ) -> go.Figure:
     """Poinsot's construction, live: a plotly figure with animation frames, a play button and a
@@ -469,9 +512,9 @@ def scene(
       and the **herpolhode**, omega's path on the plane (fixed in space), each up to the
       frame's time.
 
-    Coordinates are those of omega, in rad/s (SI units, times in s); the title says the
-    regime (:func:`polhode.analyze`'s ``regime`` of the motion at the first output time) and
-    the frame's time.
+    Coordinates are those of omega, in rad/s (SI units by default, see ``units``); the title
+    says the regime (:func:`polhode.analyze`'s ``regime`` of the motion at the first output
+    time) and the frame's time.
 
     The ellipsoid and the plane of each frame are those of that frame's omega: T = w . I w / 2,
     L = R I w. Without a torque they are the same in every frame (to the method's drift). A
@@ -507,6 +550,10 @@ def scene(
         the vertices of each cell of a grid.
     frame_duration : float
         Milliseconds per frame when playing.
+    units : dict, optional
+        The units the labels say, by quantity: ``{"time": "s", "length": "m", "mass": "kg"}``
+        (the default, SI); give those the trajectory and the body were in (any consistent set:
+        omega is then in rad per time unit, L in mass length^2 per time).
     dtype : numpy float type
         The numbers the figure stores: ``numpy.float32`` (default: half the file size; what
         a screen shows) or ``numpy.float64``.
@@ -584,6 +631,8 @@ def scene(
             argument="frame_duration",
         )
 
+    unit = _units(units)
+    rate = f"rad/{unit['time']}"
     t = np.asarray(trajectory.t, dtype=np.float64)
     omega_body = np.asarray(trajectory.omega, dtype=np.float64)
     if not np.all(np.any(omega_body != 0.0, axis=1)):
@@ -617,6 +666,27 @@ def scene(
     # The curves: at most curve_points output times, every frame's among them.
     every = np.unique(np.linspace(0, t.size - 1, min(curve_points, t.size)).round())
     curve = np.union1d(every.astype(np.int64), indices)
+    turn = max(_largest_turn(omega_body[curve]), _largest_turn(omega_space[curve]))
+    if t.size < MIN_TIMES:
+        warnings.warn(
+            f"`trajectory` has {t.size} output times: the scene has as many frames at most, and "
+            "its curves as many points. Simulate at more output times "
+            "(t=numpy.linspace(t0, t1, 1000)).",
+            UserWarning,
+            stacklevel=2,
+        )
+    elif turn > MAX_TURN:
+        advice = (
+            "raise `curve_points`"
+            if curve.size < t.size
+            else "simulate at more output times (t=numpy.linspace(t0, t1, 1000))"
+        )
+        warnings.warn(
+            "The polhode and the herpolhode are drawn as straight segments between output "
+            f"times, and omega turns by up to {turn:.0f} degrees between two of them: {advice}.",
+            UserWarning,
+            stacklevel=2,
+        )
 
     # Sizes: the largest semi-axis, the plane's reach, the scene's half-width.
     semi = np.sqrt(2.0 * energy[:, None] / moments[None, :])  # (M, 3)
@@ -691,16 +761,16 @@ def scene(
         return data
 
     def title(k: int) -> str:
-        return f"Poinsot's construction ({condition})<br>t = {t[k]:.4g} s"
+        return f"Poinsot's construction ({condition})<br>t = {t[k]:.4g} {unit['time']}"
 
     first = frame_data(int(indices[0]))
     plane_faces = _fan(48)
     cone_faces = _cone_faces()
     flat = {"flatshading": True, "hoverinfo": "skip"}
     if body is None:
-        body_name = f"inertia box of the moments ({scale:.3g} rad/s per m)"
+        body_name = f"inertia box of the moments ({scale:.3g} {rate} per {unit['length']})"
     else:
-        body_name = f"{what} ({scale:.3g} rad/s per m)"
+        body_name = f"{what} ({scale:.3g} {rate} per {unit['length']})"
     traces: list[Any] = [
         go.Mesh3d(
             **first[0],
@@ -718,7 +788,10 @@ def scene(
             **first[1],
             mode="markers",
             marker={"size": 9, "color": MARK_COLOR, "line": {"color": "black", "width": 1}},
-            name=f"marked end: +I{mark + 1} axis (toward L at t = {t[indices[0]]:.3g} s)",
+            name=(
+                f"marked end: +I{mark + 1} axis (toward L at t = {t[indices[0]]:.3g} "
+                f"{unit['time']})"
+            ),
             uid="mark",
             hoverinfo="skip",
         ),
@@ -781,7 +854,7 @@ def scene(
             line={"color": "#9467bd", "width": 6},
             name=(
                 f"L, {'moving' if moving else 'fixed'} (|L| = {size_l[indices[0]]:.4g} "
-                "kg m^2/s; its direction)"
+                f"{unit['mass']} {unit['length']}^2/{unit['time']}; its direction)"
             ),
             legendgroup="L",
             uid="L",
@@ -802,7 +875,7 @@ def scene(
             **first[11],
             mode="lines",
             line={"color": "black", "width": 6},
-            name="omega (rad/s)",
+            name=f"omega ({rate})",
             legendgroup="omega",
             uid="omega",
             hoverinfo="skip",
@@ -873,9 +946,9 @@ def scene(
         legend={"x": 0.0, "y": 0.97, "yanchor": "top", "font": {"size": 11}},
         scene={
             "domain": {"x": [0.27, 1.0], "y": [0.0, 1.0]},
-            "xaxis": {**axis_style, "title": {"text": "x, space (rad/s)"}},
-            "yaxis": {**axis_style, "title": {"text": "y, space (rad/s)"}},
-            "zaxis": {**axis_style, "title": {"text": "z, space (rad/s)"}},
+            "xaxis": {**axis_style, "title": {"text": f"x, space ({rate})"}},
+            "yaxis": {**axis_style, "title": {"text": f"y, space ({rate})"}},
+            "zaxis": {**axis_style, "title": {"text": f"z, space ({rate})"}},
             "aspectmode": "cube",
             "camera": {
                 "up": dict(zip("xyz", normal[0].tolist(), strict=True)),
@@ -908,7 +981,7 @@ def scene(
                 "y": 0.0,
                 "yanchor": "top",
                 "pad": {"t": 10},
-                "currentvalue": {"prefix": "t = ", "suffix": " s", "visible": True},
+                "currentvalue": {"prefix": "t = ", "suffix": f" {unit['time']}", "visible": True},
                 "steps": [
                     {"label": f"{t[k]:.3g}", "method": "animate", "args": [[name], step]}
                     for name, k in zip(names, indices, strict=True)
