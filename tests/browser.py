@@ -20,6 +20,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 from typing import Any
@@ -42,6 +43,22 @@ FLAGS = (
     "--disable-extensions",
     "--mute-audio",
 )
+
+
+#: Run by ``python -c`` with the pipes' two fds, then the browser's command line: moves the
+#: pipes to fds 3 and 4 and becomes the browser.
+_AS_3_AND_4 = """
+import fcntl, os, sys
+given = (int(sys.argv[1]), int(sys.argv[2]))
+high = [fcntl.fcntl(fd, fcntl.F_DUPFD, 10) for fd in given]  # apart from 3 and 4
+for fd in given:
+    os.close(fd)
+for fd, target in zip(high, (3, 4)):
+    os.dup2(fd, target)
+    os.set_inheritable(target, True)
+    os.close(fd)
+os.execv(sys.argv[3], sys.argv[3:])
+"""
 
 
 def find_chromium() -> str | None:
@@ -69,15 +86,15 @@ class Chromium:
         self._log = open(os.path.join(self._profile.name, "chromium.log"), "wb")  # noqa: SIM115
         commands, self._commands = os.pipe()  # the browser reads fd 3
         self._replies, replies = os.pipe()  # the browser writes fd 4
-
-        def pipes_as_3_and_4() -> None:
-            # Copies first: one of the two ends may itself be fd 3 or 4.
-            read, write = os.dup(commands), os.dup(replies)
-            os.dup2(read, 3)
-            os.dup2(write, 4)
-
+        # The pipes become fds 3 and 4 in a small Python process that then becomes the browser
+        # (exec): no preexec_fn, which is unsafe in a process with threads (rayon's, here).
         self._process = subprocess.Popen(
             [
+                sys.executable,
+                "-c",
+                _AS_3_AND_4,
+                str(commands),
+                str(replies),
                 binary,
                 *FLAGS,
                 "--remote-debugging-pipe",
@@ -87,8 +104,7 @@ class Chromium:
             stdin=subprocess.DEVNULL,
             stdout=self._log,
             stderr=self._log,
-            close_fds=False,  # fds 3 and 4 (made by dup2, inheritable); os.pipe's are not
-            preexec_fn=pipes_as_3_and_4,  # noqa: PLW1509  (no threads start the browser)
+            pass_fds=(commands, replies),
         )
         os.close(commands)
         os.close(replies)
