@@ -580,7 +580,14 @@ def scene(
         ``trajectory`` is a batch.
     ArgumentError
         ``trajectory`` has no orientation, has rotors, or is at rest; ``body`` does not match
-        it (other moments or other axes); a bad ``frames``, ``mark``, ``origin`` or ``dtype``.
+        it (other moments or other axes); a bad ``frames``, ``mark``, ``origin``, ``units``,
+        ``dtype`` or size.
+
+    Warns
+    -----
+    UserWarning
+        The output times are too few (under 10) or too far apart to draw the curves (omega
+        turns by more than 20 degrees between two of their points).
 
     Examples
     --------
