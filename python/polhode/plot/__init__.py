@@ -11,7 +11,7 @@ Lines are tagged with ``Line2D.get_gid()`` so their data can be found again (the
 """
 
 
-# Re-exported: the eight plots of __all__, and the curves, constants and helpers that were
+# Re-exported: the nine plots of __all__, and the curves, constants and helpers that were
 # public names of polhode.plot before it was a package.
 from polhode.plot._axes import AXIS_ROLES as AXIS_ROLES
 from polhode.plot._axes import FLOOR as FLOOR
@@ -28,6 +28,7 @@ from polhode.plot.motion import PERTURBATION_DIRECTION as PERTURBATION_DIRECTION
 from polhode.plot.motion import SLOPE_OFFSET as SLOPE_OFFSET
 from polhode.plot.motion import dissipation, drift, omega, perturbation_error, work_precision
 from polhode.plot.motion import perturbation_errors as perturbation_errors
+from polhode.plot.scene import scene
 
 __all__ = [
     "animate",
@@ -37,5 +38,6 @@ __all__ = [
     "omega",
     "perturbation_error",
     "polhode",
+    "scene",
     "work_precision",
 ]
