@@ -20,6 +20,8 @@ from polhode.errors import (
     NonFiniteError,
     NonPositiveError,
     PolhodeError,
+    PolhodeWarning,
+    RobotFileWarning,
     ShapeError,
 )
 from polhode.perturbation import perturbation
@@ -37,6 +39,8 @@ __all__ = [
     "NonFiniteError",
     "NonPositiveError",
     "PolhodeError",
+    "PolhodeWarning",
+    "RobotFileWarning",
     "ShapeError",
     "Principal",
     "Trajectory",

@@ -32,6 +32,8 @@ __all__ = [
     "NonFiniteError",
     "NonPositiveError",
     "PolhodeError",
+    "PolhodeWarning",
+    "RobotFileWarning",
     "ShapeError",
 ]
 
@@ -257,3 +259,45 @@ def _rebuild_file_error(
     return FileFormatError(
         message, argument=argument, body=body, path=path, link=link, field=field
     )
+
+
+class PolhodeWarning(UserWarning):
+    """Base class of polhode's warnings: something was read or computed, but not all of it, or
+    not as asked. Filter them (``warnings.filterwarnings("ignore", category=...)``) or turn them
+    into errors (``"error"``) like any warning.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> issubclass(ph.RobotFileWarning, ph.PolhodeWarning)
+    True
+    >>> issubclass(ph.PolhodeWarning, UserWarning)
+    True
+    """
+
+
+class RobotFileWarning(PolhodeWarning):
+    """A robot description (URDF, MJCF) read whole but for the parts named: a link whose
+    inertial a simulator would refuse is left out of the result, and the warning names the
+    file, each such link and the check it fails. ``strict=True`` on the readers raises the
+    first of them as a :class:`FileFormatError` instead.
+
+    Besides the message it carries ``path`` (the file) and ``links`` (``{link: reason}`` of
+    the links left out).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from polhode.errors import RobotFileWarning
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn(RobotFileWarning("arm.urdf: 1 link left out", path="arm.urdf",
+    ...                                    links={"tool": "its mass is -1"}))
+    >>> caught[0].category.__name__, caught[0].message.links
+    ('RobotFileWarning', {'tool': 'its mass is -1'})
+    """
+
+    def __init__(self, message: str, *, path: str | None = None, links: Any = None):
+        super().__init__(message)
+        self.path = path
+        self.links = dict(links or {})
