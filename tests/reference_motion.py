@@ -259,6 +259,28 @@ def motion_constants(moments, omega0):
     return out
 
 
+def turns_over_exact(moments, omega) -> bool:
+    """Whether L spends more than half of each period within 45 degrees of the intermediate
+    axis, in exact arithmetic: with L_2 = A sn(u | m), |sn| >= s0 = |L| / (sqrt(2) A) for more
+    than half of a quarter period iff s0^2 < 1 / (1 + sqrt(1 - m)), i.e.
+    2 A^2 / |L|^2 - 1 > sqrt(1 - m)."""
+    i = [Fraction(float(x)) for x in moments]
+    w = [Fraction(float(x)) for x in omega]
+    g2 = sum((a * b) ** 2 for a, b in zip(i, w, strict=True))  # |L|^2
+    t2 = sum(a * b * b for a, b in zip(i, w, strict=True))  # 2 T
+    i1, i2, i3 = sorted(i)
+    if g2 - t2 * i2 > 0:  # about axis 3: L_1 = 0 at the largest L_2
+        a2 = (t2 - g2 / i3) / (1 / i2 - 1 / i3)
+        m = (i2 - i1) * (t2 * i3 - g2) / ((i3 - i2) * (g2 - t2 * i1))
+    elif g2 - t2 * i2 < 0:  # about axis 1: L_3 = 0 at the largest L_2
+        a2 = (t2 - g2 / i1) / (1 / i2 - 1 / i1)
+        m = (i3 - i2) * (g2 - t2 * i1) / ((i2 - i1) * (t2 * i3 - g2))
+    else:
+        return False
+    lhs = 2 * a2 / g2 - 1
+    return lhs > 0 and lhs * lhs > 1 - m
+
+
 def _mpf(x: Fraction):
     return mp.mpf(x.numerator) / x.denominator
 

@@ -23,7 +23,7 @@ from scipy.spatial.transform import Rotation
 
 import polhode as ph
 from reference import euler_rhs
-from reference_motion import motion_constants
+from reference_motion import motion_constants, turns_over_exact
 
 SMALLEST, LARGEST = "about_smallest_axis", "about_largest_axis"
 
@@ -118,7 +118,12 @@ def test_period_against_mpmath(label, moments, omega, regime):
         assert abs(c["period"] - p) <= mp.mpf(10) ** -30 * p
     err = abs(a.period - float(p)) / float(p)
     assert err <= 1e-14, f"{label}: period {a.period!r}, mpmath {mp.nstr(p, 20)}: rel {err:.2e}"
-    assert a.flip_interval == pytest.approx(a.period / 2, rel=4 * EPS)
+    # The flip interval is half the period where the body turns over, else None.
+    assert a.turns_over == turns_over_exact(moments, omega), label
+    if a.turns_over:
+        assert a.flip_interval == pytest.approx(a.period / 2, rel=4 * EPS)
+    else:
+        assert a.flip_interval is None and a.nutation_angle is not None
 
 
 SPECIAL = [
@@ -221,12 +226,89 @@ FLIPS = [GENERAL[0], GENERAL[1], GENERAL[3], GENERAL[5], GENERAL[2]]
 
 @pytest.mark.parametrize(("label", "moments", "omega", "regime"), FLIPS, ids=[f[0] for f in FLIPS])
 def test_flip_interval_observed(label, moments, omega, regime):
+    # The intermediate component changes sign every half period, whether the body turns over
+    # (then every flip_interval) or only wobbles about the axis L circulates about.
     a = ph.analyze(moments, omega)
     mid = int(np.argsort(moments)[1])
     crossings = _crossings(tuple(moments), tuple(omega), mid, 2.6 * a.period)
     gaps = np.diff(crossings[crossings > 1e-9 * a.period])  # a start on a crossing: no gap
     assert len(gaps) >= 4, crossings
-    assert np.max(np.abs(gaps - a.flip_interval)) <= 1e-8 * a.flip_interval, (gaps, a.flip_interval)
+    half = a.period / 2
+    assert np.max(np.abs(gaps - half)) <= 1e-8 * half, (gaps, half)
+    assert a.flip_interval is None or a.flip_interval == half
+
+
+#: The T-handle of I = (3, 5, 9) with L_2 = 2 (spun at 0.4 rad/s about its intermediate axis),
+#: nudged more and more about the largest (L_3 = e) or the smallest (L_1 = e) axis: it turns
+#: over up to a nudge between 1 and 1.2 either way, then wobbles about the axis L circulates
+#: about.
+NUDGED = [
+    (f"T-handle nudged {axis} {e}", (3.0, 5.0, 9.0), w, None)
+    for axis, e, w in [
+        *(("L3", e, (0.0, 0.4, e / 9)) for e in (0.5, 1.0, 1.2, 1.4, 1.5, 2.0, 4.0)),
+        *(("L1", e, (e / 3, 0.4, 0.0)) for e in (0.3, 0.9, 1.2, 1.4, 1.8)),
+    ]
+]
+
+
+@pytest.mark.parametrize(
+    ("label", "moments", "omega", "regime"),
+    GENERAL + NUDGED,
+    ids=GENERAL_IDS + [n[0] for n in NUDGED],
+)
+def test_turns_over_when_l_dwells_near_the_intermediate_axis(label, moments, omega, regime):
+    # Observed in an independent integration (scipy's DOP853 over one period): the fraction of
+    # the time L lies within 45 degrees of either end of the intermediate axis, against 1/2.
+    a = ph.analyze(moments, omega)
+    order = np.argsort(moments)
+    m = np.asarray(moments, dtype=float)[order]
+    w0 = np.asarray(omega, dtype=float)[order]
+    sol = solve_ivp(
+        euler_rhs(tuple(m)),
+        (0.0, a.period),
+        w0,
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+        dense_output=True,
+    )
+    w = sol.sol(np.linspace(0.0, a.period, 200_001)[:-1])
+    big_l = m[:, None] * w
+    near = np.abs(big_l[1]) >= 2**-0.5 * np.linalg.norm(big_l, axis=0)
+    fraction = float(np.mean(near))
+    if abs(fraction - 0.5) > 1e-3:  # not at the boundary itself
+        assert a.turns_over == (fraction > 0.5), (label, fraction)
+    if a.turns_over:
+        # Both ends of axis 2: L_2 reverses within the period.
+        assert big_l[1].max() > 0 > big_l[1].min()
+        assert "turns over every" in a.description and "axis 2" in a.description
+
+
+def test_a_stable_spin_about_the_smallest_axis_does_not_flip():
+    # A box 0.1 x 0.2 x 0.5 spun at 10 rad/s about its long axis (the smallest moment): issue
+    # 29 saw flip_interval=0.566 and "flip interval" printed for it.
+    box = ph.Body.cuboid(1.0, [0.1, 0.2, 0.5])
+    a = ph.analyze(box, [0.05, 0.05, 10.0])
+    assert a.regime == "about_smallest_axis" and a.spin_axis == 0
+    assert a.flip_interval is None and not a.turns_over
+    assert a.nutation_angle is not None and np.degrees(a.nutation_angle[1]) < 3
+    assert a.description.startswith("Spun about axis 1 (I1, the smallest moment: stable)")
+    assert "stable spin" in a.description and "turns over" not in a.description
+
+
+@pytest.mark.parametrize(
+    ("moments", "omega", "words"),
+    [
+        ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0), "At rest."),
+        ((2.0, 2.0, 2.0), (1.0, 0.0, 0.0), "A spherical body"),
+        ((1.0, 1.0, 2.0), (0.1, 0.0, 1.0), "a symmetric top"),
+        ((1.0, 2.0, 3.0), (0.0, 1.0, 0.0), "a steady rotation"),
+        ((2.0, 3.0, 6.0), (0.375, 0.5, 0.125), "on the separatrix"),
+        ((3.0, 5.0, 9.0), (0.0, 0.4, 0.01 / 9), "turns over every 59.06 s"),
+    ],
+)
+def test_each_regime_is_described(moments, omega, words):
+    assert words in ph.analyze(moments, omega).description
 
 
 # ---------------------------------------------------------------------------------------------

@@ -46,7 +46,7 @@ import polhode as ph
 import reference as ref
 from conftest import check_eigen
 from reference import EPS, euler_omega, rigid_body, rotate_by_quaternion
-from reference_motion import exact_period
+from reference_motion import exact_period, turns_over_exact
 
 NAN, INF = math.nan, math.inf
 MAX = sys.float_info.max
@@ -1159,10 +1159,13 @@ def analysis_check(moments, omega, stability=None, precession=None):
             assert a.period is None, a.period
         else:
             close(a.period, float(period), 1e-13, what="period")
-        if regime.startswith("about") and a.period is not None:
+        if regime.startswith("about") and a.period is not None and turns_over_exact(
+            moments, omega
+        ):
             close(a.flip_interval, a.period / 2, 4 * EPS, what="flip interval")
-        elif regime != "symmetric":
-            assert a.flip_interval is None, a.flip_interval
+            assert a.turns_over and a.nutation_angle is None
+        else:
+            assert a.flip_interval is None and not a.turns_over, a.flip_interval
         if stability is not None:
             assert a.axis_stability == stability, a.axis_stability
         if precession is not None:

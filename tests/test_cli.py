@@ -23,7 +23,13 @@ def test_demo_prints_the_flip_prediction_and_observation(tmp_path, capsys):
     assert "T-handle" in out and "predicted" in out
     # Both the exact solution and the splitting observe flips at the predicted interval.
     predicted = float(out.split("a flip every ")[1].split(" s")[0])
-    observed = [float(part.split(" s;")[0]) for part in out.split("every ")[2:]]
+    # The description says it too, rounded to 4 digits.
+    assert f"turns over every {predicted:.4g} s" in out.replace("\n" + " " * 18, " ")
+    observed = [
+        float(line.split("every ")[1].split(" s;")[0])
+        for line in out.splitlines()
+        if line.startswith(("  exact ", "  splitting "))
+    ]
     assert len(observed) == 2
     for interval in observed:
         assert abs(interval / predicted - 1) < 1e-3  # sampled on a 20001-point grid

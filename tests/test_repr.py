@@ -124,7 +124,10 @@ def test_analysis():
     assert float(summary["precession_rate_space"]) == pytest.approx(
         a.precession_rate_space, rel=5e-6
     )
-    assert summary["nutation_angle"].startswith("(")
+    # It turns over: no nutation angle (the axis tumbles); a stable spin has one.
+    assert summary["nutation_angle"] == "None" and "turns_over=True" in text
+    stable = dict(Rows(ph.analyze(MOMENTS, [0.01, 0.02, 1.0])._repr_html_()).rows)
+    assert stable["nutation_angle"].startswith("(") and stable["turns_over"] == "False"
     assert "axis_stability=('stable', 'unstable', 'stable')" in text
     assert "linearized={axis=1, kind='growth', rate=" in text
 

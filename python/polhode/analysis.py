@@ -48,8 +48,28 @@ class Analysis:
         Period of the angular velocity in the body, 4 K(m) / lambda (2 pi / ``|Omega|`` for a
         symmetric top); None when the motion is not periodic.
     flip_interval : float or None
-        Time between successive sign changes of the intermediate component (the tennis-racket
-        flips): half the period. None for symmetric, steady or separatrix motion.
+        Where the body turns over (``turns_over``), the time between two turnovers (the
+        tennis-racket flips): half the period, the time between successive reversals of L's
+        component along the intermediate axis. None for every other motion: a stable spin (its
+        intermediate component also changes sign every half period, but as a wobble about the
+        axis it circulates about: nothing turns over), a symmetric top, a steady rotation, the
+        separatrix (one flip, taking forever).
+    turns_over : bool
+        Whether the body turns over: L circulates about the axis of the smallest or the largest
+        moment, but spends more than half of each period within 45 degrees of one end or the
+        other of the intermediate axis, so that the body spins mostly about that axis, one way
+        and then the other (the tennis-racket flip). In closed form, with ``L_2 = A sn(u | m)``
+        along the motion: ``A^2 / |L|^2 > (1 + sqrt(1 - m)) / 2``, since ``sn(K/2) =
+        1 / sqrt(1 + sqrt(1 - m))``. A spin near the circulation axis, or a nearly symmetric
+        body's wobble (m near 0: the transverse part of L turns evenly), does not; a motion
+        near the separatrix (m near 1) does.
+    spin_axis : int or None
+        The principal axis (0, 1, 2: I1, I2, I3) the body was spun about: the largest component
+        of omega in principal axes (the first of equal ones); None at rest.
+    description : str
+        The motion in one sentence, axes numbered 1, 2, 3 as I1 <= I2 <= I3: which axis it was
+        spun about, which L circulates about, and whether it turns over (and how often) or
+        nutates (and by how much).
     precession_rate_body : float or None
         For a symmetric top, the rate at which omega (and L) precess about the symmetry axis
         in the body, ``Omega = w_s (I_s - I_t) / I_t``; None otherwise.
@@ -66,8 +86,9 @@ class Analysis:
         The range (min, max) of the angle between L and that same axis (taken along its
         principal direction: above pi/2 when L is nearer its negative end). A symmetric top
         nutates at a constant angle, ``arccos(I_s w_s / |L|)`` (min == max); three distinct
-        moments swing between the two. None when ``precession_rate_space`` is, and for a
-        sphere.
+        moments swing between the two. None when ``precession_rate_space`` is, for a sphere,
+        and where the body turns over (``turns_over``: the axis then tumbles, it does not
+        nutate).
     axis_stability : tuple of str
         For each principal axis, ``"stable"`` (smallest or largest moment), ``"unstable"``
         (intermediate) or ``"neutral"`` (a moment shared with another axis).
@@ -95,13 +116,18 @@ class Analysis:
     Examples
     --------
     >>> import polhode as ph
-    >>> ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
+    >>> a = ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01])
+    >>> a
     Analysis(regime='about_largest_axis', moments=[1, 2, 3], omega=[0.01, 1, 0.01],
              energy=1.0002, angular_momentum_norm=2.00025, period=39.1057,
-             flip_interval=19.5529, precession_rate_body=None,
-             precession_rate_space=1.10722, nutation_angle=(0.523555, 1.55855),
+             flip_interval=19.5529, turns_over=True, spin_axis=1,
+             precession_rate_body=None, precession_rate_space=1.10722, nutation_angle=None,
              axis_stability=('stable', 'unstable', 'stable'),
              linearized={axis=1, kind='growth', rate=0.57735})
+    >>> import textwrap
+    >>> print(textwrap.fill(a.description, 90))
+    Spun about axis 2 (I2, the intermediate moment: unstable); L circulates about axis 3 (I3,
+    the largest moment) and the body turns over every 19.55 s (the tennis-racket flip).
     """
 
     moments: NDArray[np.float64]
@@ -111,6 +137,8 @@ class Analysis:
     regime: str
     period: float | None
     flip_interval: float | None
+    turns_over: bool
+    spin_axis: int | None
     precession_rate_body: float | None
     precession_rate_space: float | None
     nutation_angle: tuple[float, float] | None
@@ -118,6 +146,7 @@ class Analysis:
     linearized: dict[str, Any] = field(default_factory=dict)
     nutation_rate: float | None = None
     nutation_time_constant: float | None = None
+    description: str = ""
 
     def _summary(self) -> list[tuple[str, str]]:
         linearized = ", ".join(
@@ -132,6 +161,8 @@ class Analysis:
             ("angular_momentum_norm", _display.number(self.angular_momentum_norm)),
             ("period", _display.number(self.period)),
             ("flip_interval", _display.number(self.flip_interval)),
+            ("turns_over", repr(self.turns_over)),
+            ("spin_axis", repr(self.spin_axis)),
             ("precession_rate_body", _display.number(self.precession_rate_body)),
             ("precession_rate_space", _display.number(self.precession_rate_space)),
             (
@@ -177,6 +208,79 @@ _ABOUT = {0: "about_smallest_axis", 2: "about_largest_axis"}
 
 #: The two other axes of each axis.
 _OTHERS = ((1, 2), (0, 2), (0, 1))
+
+#: Each principal axis, as a person reads it (numbered 1, 2, 3 as I1 <= I2 <= I3).
+_AXIS_WORDS = (
+    "axis 1 (I1, the smallest moment",
+    "axis 2 (I2, the intermediate moment",
+    "axis 3 (I3, the largest moment",
+)
+
+
+def _turns_over(regime: str, mom: list[float], energy: float, norm: float) -> bool:
+    """Whether L, circulating about the axis of the smallest or largest moment, spends more
+    than half of each period within 45 degrees of the intermediate axis (see
+    Analysis.turns_over): ``A^2 / |L|^2 > (1 + sqrt(1 - m)) / 2`` with ``A^2`` the largest
+    ``L_2^2`` and ``m`` the motion's elliptic parameter."""
+    if regime not in _ABOUT.values() or not energy > 0.0:
+        return False
+    i1, i2, i3 = mom
+    d = (norm / (2.0 * energy)) * norm  # |L|^2 / 2T, between I1 and I3
+    if regime == "about_largest_axis":  # L_2 = A sn, L_1 = .. cn, L_3 = .. dn
+        reach = i2 * (i3 - d) / (d * (i3 - i2))
+        m = (i2 - i1) * (i3 - d) / ((i3 - i2) * (d - i1))
+    else:
+        reach = i2 * (d - i1) / (d * (i2 - i1))
+        m = (i3 - i2) * (d - i1) / ((i2 - i1) * (i3 - d))
+    # |sn u| >= s0 for more than half of [0, K] iff s0 < sn(K/2) = 1 / sqrt(1 + sqrt(1 - m)).
+    return 2.0 * reach - 1.0 > math.sqrt(max(0.0, 1.0 - m))
+
+
+def _describe(
+    regime: str,
+    spin: int | None,
+    stability: tuple[str, str, str],
+    flip: float | None,
+    nutation: tuple[float, float] | None,
+    symmetry_axis: int | None,
+) -> str:
+    """The motion in one sentence (see Analysis.description)."""
+    if regime == "rest" or spin is None:
+        return "At rest."
+    if regime == "spherical":
+        return "A spherical body (I1 = I2 = I3): omega stays fixed, in the body and in space."
+    spun = f"Spun about {_AXIS_WORDS[spin]}: {stability[spin]})"
+    if regime == "symmetric":
+        axis = _AXIS_WORDS[symmetry_axis if symmetry_axis is not None else 2].split(" (")[0]
+        return (
+            f"{spun}; a symmetric top: omega and L precess about its symmetry {axis} at a "
+            "constant angle."
+        )
+    if regime == "steady_intermediate":
+        return (
+            f"{spun}, exactly: a steady rotation that the slightest nudge turns into a "
+            "tumble (the tennis-racket flip)."
+        )
+    if regime == "separatrix":
+        return (
+            f"{spun}; on the separatrix (|L|^2 = 2 T I2): the body turns over once, taking "
+            "forever."
+        )
+    about = 2 if regime == "about_largest_axis" else 0
+    circulates = (
+        "L circulates about it" if about == spin else f"L circulates about {_AXIS_WORDS[about]})"
+    )
+    if flip is not None:
+        return (
+            f"{spun}; {circulates} and the body turns over every {flip:.4g} s (the "
+            "tennis-racket flip)."
+        )
+    text = f"{spun}; {circulates}: a stable spin"
+    if nutation is not None:
+        lo, hi = (math.degrees(x) for x in nutation)
+        span = f"{lo:.3g} deg" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g} to {hi:.3g} deg"
+        text += f", axis {about + 1} {span} from L"
+    return text + "."
 
 
 def _order3(m: list[float]) -> tuple[int, int, int]:
@@ -281,8 +385,11 @@ def analyze(
     if regime == "about_axis":
         regime = _ABOUT[info["axis"]]
     period = info["period"]
-    flip = period / 2 if regime in _ABOUT.values() and period is not None else None
-    nutation = info["nutation_angle"]
+    energy = float(info["energy"])
+    norm = float(info["angular_momentum_norm"])
+    turns_over = period is not None and _turns_over(regime, mom, energy, norm)
+    flip = period / 2 if turns_over else None
+    nutation = None if turns_over else info["nutation_angle"]
     precession = None
     # Equal as the core's regime sees them (exactly): the merging is done above.
     equal = [mom[1] == mom[0], mom[2] == mom[1]]
@@ -329,23 +436,30 @@ def analyze(
     damper_rate: float | None = None
     if len(rotors) == 1 and isinstance(rotors[0], SphericalDamper):
         damper_rate = nutation_rate(mom, omega, rotors[0])
+    spin = None if regime == "rest" else k
+    angles = None if nutation is None else (float(nutation[0]), float(nutation[1]))
+    symmetry_axis = None if equal[0] == equal[1] else (2 if equal[0] else 0)
+    description = _describe(regime, spin, stability, flip, angles, symmetry_axis)
     # The fields set in one step (a frozen dataclass's __init__ sets each through
     # object.__setattr__): the same object as Analysis(...) with these fields, in their order.
     analysis = object.__new__(Analysis)
     analysis.__dict__.update(
         moments=np.array(mom),
         omega=np.array(omega),
-        energy=float(info["energy"]),
-        angular_momentum_norm=float(info["angular_momentum_norm"]),
+        energy=energy,
+        angular_momentum_norm=norm,
         regime=regime,
         period=period,
         flip_interval=flip,
+        turns_over=turns_over,
+        spin_axis=spin,
         precession_rate_body=precession,
         precession_rate_space=info["precession_rate_space"],
-        nutation_angle=None if nutation is None else (float(nutation[0]), float(nutation[1])),
+        nutation_angle=angles,
         axis_stability=stability,
         linearized=linearized,
         nutation_rate=damper_rate,
         nutation_time_constant=None if not damper_rate else 1.0 / abs(damper_rate),
+        description=description,
     )
     return analysis

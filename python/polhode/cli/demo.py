@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -177,7 +178,8 @@ def _flip_demo() -> None:
     spin = 10.0 * p.axes[:, 1] + 1e-3 * p.axes[:, 0]  # rad/s about the intermediate axis, nudged
     a = ph.analyze(t_handle, spin)
     print("T-handle spun at 10 rad/s about its intermediate axis, nudged by 1e-3 rad/s")
-    print(f"  regime          {a.regime}; axis stability {', '.join(a.axis_stability)}")
+    for line in textwrap.wrap(a.description, 100 - 18, break_on_hyphens=False):
+        print(f"{'':18s}{line}")
     print(f"  predicted       a flip every {a.flip_interval:.4f} s (period {a.period:.4f} s)")
     t = np.linspace(0.0, 5.5 * a.flip_interval, 20001)
     for method, options in (("exact", {}), ("splitting", {"dt": 1e-3, "order": 4})):

@@ -7,6 +7,7 @@ import argparse
 import csv
 import os
 import sys
+import textwrap
 import time
 from typing import Any
 
@@ -245,6 +246,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"regime             rest (omega0 = 0{'' if rotors else ': the body stays at rest'})")
     else:
         print(f"regime             {a.regime}; axis stability {', '.join(a.axis_stability)}")
+        for line in textwrap.wrap(a.description, 100 - 19, break_on_hyphens=False):
+            print(f"{'':19s}{line}")
     if a.period is not None:
         print(f"period             {a.period:.9g}   (omega in the body)")
     if a.flip_interval is not None:
