@@ -22,7 +22,7 @@ matplotlib = pytest.importorskip("matplotlib")
 trimesh = pytest.importorskip("trimesh")
 from matplotlib.animation import AbstractMovieWriter  # noqa: E402
 
-LINES = ("axis0", "axis1", "axis2", "omega", "angular_momentum")
+LINES = ("axis1", "axis2", "axis3", "omega", "angular_momentum", "mark")
 
 
 class Recorder(AbstractMovieWriter):
@@ -90,9 +90,9 @@ def test_drawn_axes_omega_and_l_follow_an_independent_integration(tmp_path):
     l_space = r_ref[0] @ body.inertia @ spin
     flipped = []
     for frame, r, r_own, w, ti in zip(frames, r_ref, r_sol, omega_ref, t[indices], strict=True):
-        assert frame["title"] == f"t = {ti:.4g}"
+        assert frame["title"] == f"t = {ti:.4g} s"
         for k in range(3):
-            start, end = frame[f"axis{k}"]
+            start, end = frame[f"axis{k + 1}"]
             np.testing.assert_allclose(start, 0.0, atol=1e-15)  # free body: about its centre
             drawn = (end - start) / np.linalg.norm(end - start)
             # the trajectory's own rotation, to rounding
@@ -127,7 +127,7 @@ def test_heavy_top_turns_about_its_pivot(tmp_path):
     frames = record(anim, tmp_path)
     r = Rotation.from_quat(sol.quaternion[anim.frame_indices]).as_matrix()
     for frame, rk in zip(frames, r, strict=True):
-        start, _ = frame["axis0"]
+        start, _ = frame["axis1"]
         # The axes start at the centre of mass, seen from the pivot held at the origin.
         np.testing.assert_allclose(start, rk @ (top.center_of_mass - pivot), atol=1e-15)
 
