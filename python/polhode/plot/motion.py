@@ -454,7 +454,7 @@ def perturbation_error(
     >>> round(float(np.log10(errors[1] / errors[0])), 2)  # over one decade of eps
     2.0
     >>> ax.get_title()
-    'Perturbation expansion near axis 1 (smallest moment)'
+    'Expansion near axis 1 (smallest moment)'
     """
     epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else _epsilons(eps)
     errors = perturbation_errors(body, axis, epsilons, orders, t, spin=spin, direction=direction)
@@ -478,7 +478,7 @@ def perturbation_error(
     ax.set_xlabel("$\\epsilon$, the perturbation's size relative to the spin")
     ax.set_ylabel(labelled("$\\max\\,|\\omega - \\omega_{exact}|$", unit.rate))
     k = int(axis)
-    ax.set_title(f"Perturbation expansion near axis {k + 1} ({AXIS_ROLES[k]} moment)")
+    ax.set_title(f"Expansion near axis {k + 1} ({AXIS_ROLES[k]} moment)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     return ax
