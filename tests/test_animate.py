@@ -155,7 +155,12 @@ def test_animate_rejects_what_it_cannot_draw(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="orientation"):
         ph.plot.animate(ph.simulate(body, [0.0, 0.0, 1.0], t, orientation=False), body)
     with pytest.raises(TypeError, match="body"):
+        ph.plot.animate(sol, "sphere")
+    # Moments are taken (drawn as their inertia box), but they must be the trajectory's.
+    with pytest.raises(ph.ArgumentError, match="does not match") as error:
         ph.plot.animate(sol, [1.0, 1.0, 1.0])
+    assert error.value.argument == "body"
+    ph.plot.animate(sol, [0.004, 0.004, 0.004], frames=2).to_jshtml()  # 2/5 m r^2
     with pytest.raises(ValueError, match="at least 1"):
         ph.plot.animate(sol, body, frames=0)
     with pytest.raises(ValueError, match="index"):

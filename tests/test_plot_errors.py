@@ -460,7 +460,14 @@ def an(**options):
 
 
 err("animate/body='x'", lambda: AN(bar_traj(), "x"), TypeError, "body")
-err("animate/body=moments", lambda: AN(bar_traj(), [1.0, 2.0, 3.0]), TypeError, "body")
+err("animate/body=other moments", lambda: AN(bar_traj(), [1.0, 2.0, 3.0]), ph.ArgumentError,
+    "body")
+err("animate/body=[1, 2]", lambda: AN(bar_traj(), [1.0, 2.0]), ph.ShapeError, "body")
+err("animate/origin with moments", lambda: AN(bar_traj(), np.diag(bar().inertia),
+                                              origin=[0.0, 0.0, 0.1]), ph.ArgumentError, "origin")
+ok("animate/body=its principal moments", lambda: AN(bar_traj(), np.diag(bar().inertia),
+                                                     frames=2), drawn)
+ok("animate/body=None (the trajectory's)", lambda: AN(bar_traj(), frames=2), drawn)
 err("animate/body of other moments", lambda: AN(bar_traj(), ph.Body.cuboid(1.0, [0.3, 0.1, 0.1])),
     ph.ArgumentError, "body")
 err("animate/frames=0", an(frames=0), ph.ArgumentError, "frames")

@@ -301,3 +301,21 @@ def test_perturbation_error_takes_a_body(brick):
         np.testing.assert_allclose(from_body[order], from_moments[order], rtol=1e-9, atol=1e-15)
     ax = plot.perturbation_error(brick, axis=0, eps=[1e-3, 1e-2])
     assert [x.get_gid() for x in ax.get_lines()][:1] == ["perturbation_error:1"]
+
+
+@pytest.mark.parametrize("given", ["moments", "tensor", "none"])
+def test_animate_takes_moments_a_tensor_or_nothing(brick_sol, given):
+    """Drawn as the uniform box of those moments: for a cuboid, a box of the cuboid's own
+    proportions (its sides a_k^2 ~ I_i + I_j - I_k = m a_k^2 / 6), along its own axes."""
+    reference = cuboid(1.0, SIZE).inertia  # closed form
+    body = {"moments": np.diag(reference), "tensor": reference, "none": None}[given]
+    anim = plot.animate(brick_sol, body, frames=1)
+    surface = next(c for c in anim._fig.axes[0].collections if c.get_gid() == "body")
+    anim.to_jshtml()
+    # the drawn vertices of frame 0 (matplotlib keeps the 3-D polygons in _faces)
+    faces = np.ma.asarray(surface._faces)
+    corners = np.asarray(faces.reshape(-1, 3)[~np.ma.getmaskarray(faces).reshape(-1, 3)
+                                              .any(axis=1)])
+    r0 = Rotation.from_quat(brick_sol.quaternion[0]).as_matrix()
+    extents = np.ptp(corners @ r0, axis=0)  # back in body axes
+    np.testing.assert_allclose(extents / extents[1], np.array(SIZE) / SIZE[1], rtol=1e-9)

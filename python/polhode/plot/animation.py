@@ -12,12 +12,13 @@ from numpy.typing import NDArray
 from polhode._coerce import as_finite, as_finite_array, as_flag, as_integer, as_path
 from polhode.errors import ArgumentError
 from polhode.plot._axes import axes_for, one_trajectory
-from polhode.plot._frames import fits
+from polhode.plot._frames import body_axes, fits, principal_of
 from polhode.plot._labels import Units, axis_name, units_of
 from polhode.plot._poinsot import (
     MARK_COLOR,
     capped_polygons,
     frame_indices,
+    inertia_box,
     mark_of,
 )
 from polhode.plot._poinsot import (
@@ -60,30 +61,73 @@ def _writer(path: str) -> str:
     raise ArgumentError(f"Expected `path` to end in .gif or .mp4, got {path!r}.", argument="path")
 
 
-def _check_body(traj: Trajectory, body: Any, fixed: Array | None) -> Array:
-    """The body's tensor about the point held fixed, checked against the trajectory."""
+@dataclass
+class _Shape:
+    """What animate draws of the body, about the point held fixed (body coordinates): the
+    polygons of each part, the centre of mass, the principal axes (columns, moments
+    ascending)."""
+
+    parts: list[list[Array]]
+    com: Array
+    axes: Array
+
+
+def _mismatch(traj: Trajectory, tensor: Array, about: str, hint: str) -> ArgumentError:
+    return ArgumentError(
+        f"`body` does not match `traj`: its inertia about {about} (principal moments "
+        f"{np.linalg.eigvalsh(tensor).tolist()}) does not give the trajectory's angular "
+        f"momentum from its omega (moments {np.sort(traj.moments).tolist()}); pass the body "
+        f"the trajectory was simulated with, in the same axes{hint}.",
+        argument="body",
+    )
+
+
+def _shape_of(traj: Trajectory, body: Any, origin: Any, resolution: int) -> _Shape:
+    """The body as drawn, checked against the trajectory: a Body's own shape about ``origin``
+    (default its centre of mass); for principal moments or a tensor (or None: the
+    trajectory's own, read off its data), the uniform box with those moments about its
+    centre."""
+    from polhode import _shapes
     from polhode.bodies import Body
 
-    if not isinstance(body, Body):
-        raise TypeError(f"Expected `body` to be a polhode.Body, got {type(body).__name__}.")
-    tensor = np.asarray(body.inertia if fixed is None else body.inertia_about(fixed))
-    if not fits(traj, tensor):
-        about = "its centre of mass" if fixed is None else f"origin={fixed.tolist()}"
-        hint = " (for a heavy top, pass origin=the pivot)" if fixed is None else ""
-        raise ArgumentError(
-            f"`body` does not match `traj`: its inertia about {about} (principal moments "
-            f"{np.linalg.eigvalsh(tensor).tolist()}) does not give the trajectory's angular "
-            f"momentum from its omega (moments {np.sort(traj.moments).tolist()}); pass the body "
-            f"the trajectory was simulated with, in the same axes{hint}.",
-            argument="body",
+    fixed = None if origin is None else as_finite_array("origin", origin, (3,))
+    if isinstance(body, Body):
+        tensor = np.asarray(body.inertia if fixed is None else body.inertia_about(fixed))
+        if not fits(traj, tensor):
+            about = "its centre of mass" if fixed is None else f"origin={fixed.tolist()}"
+            hint = " (for a heavy top, pass origin=the pivot)" if fixed is None else ""
+            raise _mismatch(traj, tensor, about, hint)
+        point = body.center_of_mass if fixed is None else fixed
+        parts = [_shapes.surface((p,), resolution) for p in _shapes.of(body)]
+        return _Shape(
+            [[q - point for q in part] for part in parts],
+            body.center_of_mass - point,
+            np.asarray(body.principal().axes, dtype=np.float64),
         )
-    return tensor
+    if fixed is not None:
+        raise ArgumentError(
+            "`origin` is a point of `body`: give it with a Body.", argument="origin"
+        )
+    if body is None:
+        frame = body_axes(traj)
+        if frame.axes is None:
+            raise ArgumentError(
+                "`traj` does not tell its principal axes (its body axes are not principal and "
+                "its omega does not span every direction): pass its body as `body`.",
+                argument="body",
+            )
+        moments, axes = frame.moments, frame.axes
+    else:
+        moments, axes = principal_of(body)
+    tensor = axes @ np.diag(moments) @ axes.T
+    if not fits(traj, tensor):
+        raise _mismatch(traj, tensor, "its centre", "")
+    return _Shape([inertia_box(tensor)], np.zeros(3), axes)
 
 
 @dataclass
 class _Options:
     indices: NDArray[np.int64]
-    fixed: Array
     interval: float
     resolution: int
     path: str | None
@@ -93,15 +137,11 @@ class _Options:
     unit: Units
 
 
-def _options(traj: Trajectory, body: Any, **given: Any) -> tuple[_Options, Array]:
-    """animate's options, checked, and the body's tensor about the fixed point."""
-    origin = given["origin"]
-    fixed = None if origin is None else as_finite_array("origin", origin, (3,))
-    tensor = _check_body(traj, body, fixed)
+def _options(traj: Trajectory, **given: Any) -> _Options:
+    """animate's options, checked."""
     path = None if given["path"] is None else as_path("path", given["path"])
-    options = _Options(
+    return _Options(
         indices=frame_indices(given["frames"], traj.t.size),
-        fixed=body.center_of_mass if fixed is None else fixed,
         interval=as_finite("interval", given["interval"], positive=True),
         resolution=as_integer("resolution", given["resolution"], minimum=6),
         path=path,
@@ -110,12 +150,11 @@ def _options(traj: Trajectory, body: Any, **given: Any) -> tuple[_Options, Array
         space_axes=as_flag("space_axes", given["space_axes"]),
         unit=units_of(given["units"]),
     )
-    return options, tensor
 
 
 def animate(
     traj: Trajectory,
-    body: Body,
+    body: Body | Any = None,
     *,
     frames: Any = 60,
     origin: Any = None,
@@ -145,21 +184,25 @@ def animate(
     The shape is the one the body was built from: solids, meshes and point masses (drawn as
     balls), each part of a composite in its own colour; a body with no geometry
     (``Body.from_inertia``) is drawn as its equivalent ellipsoid (the uniform solid ellipsoid
-    with the same inertia).
+    with the same inertia); a body given as principal moments or a tensor, as
+    :func:`polhode.simulate` takes it, or none, as the uniform box with those moments (up to
+    its unknown mass) about its centre, as :func:`polhode.plot.scene` does.
 
     Parameters
     ----------
     traj : Trajectory
         One body's motion with its orientation, simulated with ``body`` (its inertia, about
         ``origin``, must give the trajectory's angular momentum from its omega).
-    body : Body
-        The body whose shape is drawn.
+    body : Body, (3,) principal moments or (3, 3) inertia tensor, optional
+        The body whose shape is drawn; moments or a tensor (in the body axes of ``traj``), or
+        None for the trajectory's own (read off its omega and angular momentum), are drawn as
+        their inertia box.
     frames : int or array_like of int
         The number of frames, at evenly spaced output times (default 60; at most one per
         output time), or the indices of the output times to draw.
     origin : (3,) array_like, optional
-        The body point (body coordinates) drawn fixed at the origin of space; default the
-        centre of mass.
+        With a Body: the body point (body coordinates) drawn fixed at the origin of space;
+        default the centre of mass.
     ax : a 3D Axes, optional
         Drawn on if given (``projection="3d"``), else on a new figure.
     interval : float
@@ -204,11 +247,9 @@ def animate(
     >>> html = anim.to_jshtml()  # in Jupyter: IPython.display.HTML(html)
     """
     traj = one_trajectory(traj, "plot.animate", orientation=True)
-    options, _ = _options(
+    options = _options(
         traj,
-        body,
         frames=frames,
-        origin=origin,
         interval=interval,
         resolution=resolution,
         path=path,
@@ -216,11 +257,11 @@ def animate(
         space_axes=space_axes,
         units=units,
     )
-    principal = body.principal()
+    shape = _shape_of(traj, body, origin, options.resolution)
     momentum0 = np.asarray(traj.angular_momentum_body, dtype=np.float64)[0]
-    marked, direction = mark_of(principal.axes, traj.omega[0], momentum0, mark)
+    marked, direction = mark_of(shape.axes, traj.omega[0], momentum0, mark)
     ax = axes_for(ax, "3d") if ax is not None else _new_axes()
-    animation = _Drawing(traj, body, options, marked, direction).animate(ax)
+    animation = _Drawing(traj, shape, options, marked, direction).animate(ax)
     if options.path is not None:
         animation.save(
             options.path, writer=options.writer, fps=1000.0 / options.interval, dpi=options.dpi
@@ -239,25 +280,21 @@ class _Drawing:
     """The artists of :func:`animate` and how each frame moves them."""
 
     def __init__(
-        self, traj: Trajectory, body: Body, options: _Options, mark: int, direction: Array
+        self, traj: Trajectory, shape: _Shape, options: _Options, mark: int, direction: Array
     ):
         from scipy.spatial.transform import Rotation
-
-        from polhode import _shapes
 
         self.traj, self.options, self.mark, self.direction = traj, options, mark, direction
         indices = options.indices
         assert traj.quaternion is not None
         self.rotations = Rotation.from_quat(traj.quaternion[indices]).as_matrix()
-        self.axes_body = body.principal().axes
+        self.axes_body = shape.axes
         omega_space = np.einsum("fij,fj->fi", self.rotations, traj.omega[indices])
         momentum = traj.angular_momentum_space
         l_space = np.zeros_like(omega_space) if momentum is None else momentum[indices]
 
-        fixed = options.fixed
-        parts = [_shapes.surface((p,), options.resolution) for p in _shapes.of(body)]
-        polygons = [q - fixed for part in parts for q in part]
-        owner = [k for k, part in enumerate(parts) for _ in part]
+        polygons = [q for part in shape.parts for q in part]
+        owner = [k for k, part in enumerate(shape.parts) for _ in part]
         pieces, owner, capped, end = capped_polygons(polygons, owner, direction)
         self.polygons = pieces
         self.colors = [
@@ -266,7 +303,7 @@ class _Drawing:
         ]
         self.end = end
         reach = max(float(np.max(np.linalg.norm(q, axis=1))) for q in pieces)
-        self.com = body.center_of_mass - fixed
+        self.com = shape.com
         self.size = 1.1 * max(reach, float(np.linalg.norm(self.com)) + 1e-300)
         arrow = 0.9 * self.size
 
