@@ -518,6 +518,11 @@ err("scene/frame_duration=nan", lambda: SCENE(bar_traj(), bar(), frame_duration=
     ph.NonFiniteError, "frame_duration")
 err("scene/units={'time': 3}", lambda: SCENE(bar_traj(), bar(), units={"time": 3}), TypeError,
     "units")
+err("scene/body='x'", lambda: SCENE(bar_traj(), "x"), TypeError, "body")
+err("scene/body=other moments", lambda: SCENE(bar_traj(), [1.0, 2.0, 3.0]), ph.ArgumentError,
+    "body")
+ok("scene/body=its principal moments", lambda: SCENE(bar_traj(), np.diag(bar().inertia),
+                                                      frames=2), lambda fig: None)
 err("scene/path=5", lambda: SCENE(bar_traj(), bar(), frames=2, path=5), TypeError, "path")
 
 

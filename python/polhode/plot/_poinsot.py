@@ -143,10 +143,13 @@ def relative_mismatch(a: Array, b: Array) -> float:
     return float(np.max(np.abs(a - b))) / scale if scale > 0 else float(np.max(np.abs(a - b)))
 
 
-def inertia_about_origin(trajectory: Trajectory, body: Body | None, origin: Array | None) -> Array:
+def inertia_about_origin(
+    trajectory: Trajectory, body: Body | None, origin: Array | None, tensor: Array | None = None
+) -> Array:
     """The inertia tensor (about the fixed point, in the trajectory's body axes) of the motion.
 
-    With a Body: its tensor about ``origin`` (default the centre of mass), checked against the
+    With a Body: its tensor about ``origin`` (default the centre of mass), and with ``tensor``
+    (a body given as principal moments or a tensor) that tensor, checked against the
     trajectory's principal moments and against its ``I omega``. Without: the diagonal of the
     trajectory's moments when its omega is in those axes (a motion simulated with principal
     moments), else the tensor fitted to ``I omega`` over the output times.
@@ -154,8 +157,10 @@ def inertia_about_origin(trajectory: Trajectory, body: Body | None, origin: Arra
     moments = np.asarray(trajectory.moments, dtype=np.float64)
     omega = np.asarray(trajectory.omega, dtype=np.float64)
     momentum = np.asarray(trajectory.angular_momentum_body, dtype=np.float64)
-    if body is not None:
-        tensor = body.inertia if origin is None else body.inertia_about(origin)
+    if body is not None or tensor is not None:
+        if tensor is None:
+            assert body is not None
+            tensor = body.inertia if origin is None else body.inertia_about(origin)
         eigen = np.linalg.eigvalsh(tensor)
         about = "its centre of mass" if origin is None else f"origin={origin.tolist()}"
         if relative_mismatch(eigen, np.sort(moments)) > 1e-9:

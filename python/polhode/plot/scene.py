@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_integer, as_path
 from polhode.errors import ArgumentError
+from polhode.plot._frames import principal_of
 from polhode.plot._labels import Units, units_of
 from polhode.plot._poinsot import (
     AXIS_COLORS,
@@ -117,9 +118,10 @@ def scene(
         One body's motion with its orientation (any method, ``orientation=True``). The
         polhode and herpolhode go through its output times (at most ``curve_points`` of them):
         give output times close enough to draw them.
-    body : Body, optional
-        The body it was simulated with (its principal moments and axes must match the
-        trajectory's); default: drawn as the box of the trajectory's moments.
+    body : Body, (3,) principal moments or (3, 3) inertia tensor, optional
+        The body it was simulated with, as :func:`polhode.simulate` takes it (its principal
+        moments and axes must match the trajectory's); principal moments or a tensor are
+        drawn as their inertia box; default: drawn as the box of the trajectory's moments.
     frames : int or array_like of int
         The number of frames at evenly spaced output times (default 120, at most one per
         output time), or the indices of the output times.
@@ -192,6 +194,7 @@ def scene(
     import plotly.graph_objects as go
 
     trajectory = check_trajectory(trajectory)
+    body, tensor = _body(body)
     settings = _settings(
         body,
         origin=origin,
@@ -203,7 +206,7 @@ def scene(
         units=units,
         path=path,
     )
-    motion = _Motion(trajectory, body, settings, frames, mark)
+    motion = _Motion(trajectory, body, tensor, settings, frames, mark)
     geometry = _Geometry(motion, body, settings)
     figure = go.Figure(
         data=_traces(motion, geometry, body, settings),
@@ -213,6 +216,17 @@ def scene(
     if settings.path is not None:
         figure.write_html(settings.path, include_plotlyjs=True, auto_play=False)
     return figure
+
+
+def _body(body: Any) -> tuple[Body | None, Array | None]:
+    """A Body (drawn as it was built), or principal moments or a tensor (in the trajectory's
+    body axes: drawn as their inertia box, as without a body) as that tensor."""
+    from polhode.bodies import Body
+
+    if body is None or isinstance(body, Body):
+        return body, None
+    moments, axes = principal_of(body)
+    return None, axes @ np.diag(moments) @ axes.T
 
 
 @dataclass(frozen=True)
@@ -280,6 +294,7 @@ class _Motion:
         self,
         trajectory: Trajectory,
         body: Body | None,
+        given: Array | None,
         settings: _Settings,
         frames: Any,
         mark: Any,
@@ -295,7 +310,7 @@ class _Motion:
                 argument="trajectory",
             )
         self.indices = indices = frame_indices(frames, t.size)
-        self.tensor = tensor = inertia_about_origin(trajectory, body, settings.fixed)
+        self.tensor = tensor = inertia_about_origin(trajectory, body, settings.fixed, given)
         self.moments, self.axes = np.linalg.eigh(tensor)
         self.mark, self.direction = mark_of(self.axes, omega_body[0], tensor @ omega_body[0], mark)
 
