@@ -22,7 +22,7 @@ matplotlib = pytest.importorskip("matplotlib")
 trimesh = pytest.importorskip("trimesh")
 from matplotlib.animation import AbstractMovieWriter  # noqa: E402
 
-LINES = ("axis0", "axis1", "axis2", "omega", "angular_momentum")
+LINES = ("axis1", "axis2", "axis3", "omega", "angular_momentum", "mark")
 
 
 class Recorder(AbstractMovieWriter):
@@ -90,9 +90,9 @@ def test_drawn_axes_omega_and_l_follow_an_independent_integration(tmp_path):
     l_space = r_ref[0] @ body.inertia @ spin
     flipped = []
     for frame, r, r_own, w, ti in zip(frames, r_ref, r_sol, omega_ref, t[indices], strict=True):
-        assert frame["title"] == f"t = {ti:.4g}"
+        assert frame["title"] == f"t = {ti:.4g} s"
         for k in range(3):
-            start, end = frame[f"axis{k}"]
+            start, end = frame[f"axis{k + 1}"]
             np.testing.assert_allclose(start, 0.0, atol=1e-15)  # free body: about its centre
             drawn = (end - start) / np.linalg.norm(end - start)
             # the trajectory's own rotation, to rounding
@@ -127,7 +127,7 @@ def test_heavy_top_turns_about_its_pivot(tmp_path):
     frames = record(anim, tmp_path)
     r = Rotation.from_quat(sol.quaternion[anim.frame_indices]).as_matrix()
     for frame, rk in zip(frames, r, strict=True):
-        start, _ = frame["axis0"]
+        start, _ = frame["axis1"]
         # The axes start at the centre of mass, seen from the pivot held at the origin.
         np.testing.assert_allclose(start, rk @ (top.center_of_mass - pivot), atol=1e-15)
 
@@ -155,7 +155,12 @@ def test_animate_rejects_what_it_cannot_draw(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="orientation"):
         ph.plot.animate(ph.simulate(body, [0.0, 0.0, 1.0], t, orientation=False), body)
     with pytest.raises(TypeError, match="body"):
+        ph.plot.animate(sol, "sphere")
+    # Moments are taken (drawn as their inertia box), but they must be the trajectory's.
+    with pytest.raises(ph.ArgumentError, match="does not match") as error:
         ph.plot.animate(sol, [1.0, 1.0, 1.0])
+    assert error.value.argument == "body"
+    ph.plot.animate(sol, [0.004, 0.004, 0.004], frames=2).to_jshtml()  # 2/5 m r^2
     with pytest.raises(ValueError, match="at least 1"):
         ph.plot.animate(sol, body, frames=0)
     with pytest.raises(ValueError, match="index"):
@@ -257,3 +262,41 @@ def test_a_body_without_geometry_is_drawn_as_its_equivalent_ellipsoid():
     # Added to a solid, it keeps its place as a part of the composite.
     composite = body + ph.Body.sphere(1.0, 0.1).translated([2.0, 0.0, 0.0])
     assert [p.kind for p in _shapes.of(composite)] == ["ellipsoid", "sphere"]
+
+
+def test_one_end_is_marked_so_that_the_flip_is_seen(tmp_path):
+    """The T-handle spun about its intermediate axis (its cross bar, symmetric end to end):
+    the end of the bar that points toward L at t0 is orange, and the ball beyond it is carried
+    by the rotation, toward L at first and away from it after the flip."""
+    body = t_handle()
+    p = body.principal()
+    # In closed form: the bar (0.12 long, radius 0.01, along x at z = 0.1) is the
+    # intermediate axis; the centre of mass is on the z axis.
+    com_z = (0.3 * 0.0 + 0.2 * 0.1) / 0.5
+    np.testing.assert_allclose(body.center_of_mass, [0.0, 0.0, com_z], atol=1e-15)
+    assert abs(p.axes[0, 1]) == pytest.approx(1.0)
+    spin = 10.0 * p.axes[:, 1] + 3e-2 * p.axes[:, 0]
+    t = np.linspace(0.0, 5.0, 101)
+    sol = ph.simulate(body, spin, t)
+    anim = ph.plot.animate(sol, body, frames=21)
+    assert anim.mark == 1
+    toward = np.sign((body.inertia @ spin)[0])  # the bar's end along +x or -x toward L
+    np.testing.assert_allclose(anim.mark_direction, [toward, 0.0, 0.0], atol=1e-15)
+    # The orange faces: the last fifth of the bar along that end, nothing else.
+    surface = next(c for c in anim._fig.axes[0].collections if c.get_gid() == "body")
+    colors = surface.get_facecolor()
+    orange = np.all(np.abs(colors[:, :3] - matplotlib.colors.to_rgb("#ff7f0e")) < 0.25, axis=1)
+    assert orange.any() and not orange.all()
+    # The ball: on the bar's axis line, beyond its end (x = 0.06 toward L), carried by R(t).
+    frames = record(anim, tmp_path)
+    r = Rotation.from_quat(sol.quaternion[anim.frame_indices]).as_matrix()
+    l_space = sol.angular_momentum_space[0]
+    end = np.array([0.06 * toward, 0.0, 0.1]) - body.center_of_mass
+    sides = []
+    for frame, rk in zip(frames, r, strict=True):
+        (ball,) = frame["mark"]
+        beyond = rk.T @ ball - end  # body coordinates, from the end
+        np.testing.assert_allclose(beyond[1:], 0.0, atol=1e-12)
+        assert 0.0 < beyond[0] * toward < 0.02  # just beyond the end, along the bar
+        sides.append(float(np.dot(ball - rk @ np.array([0.0, 0.0, 0.1 - com_z]), l_space)))
+    assert sides[0] > 0 and min(sides) < 0  # toward L at first, then turned over

@@ -43,11 +43,13 @@ def lines(ax, prefix):
 def test_omega(traj, tmp_path):
     ax = plot.omega(traj)
     render(ax, tmp_path / "omega.png")
-    assert [line.get_gid() for line in ax.lines] == ["omega1", "omega2", "omega3"]
+    assert [line.get_gid() for line in ax.lines] == ["omega[0]", "omega[1]", "omega[2]"]
     for k, line in enumerate(ax.lines):
         np.testing.assert_array_equal(line.get_xdata(), traj.t)
         np.testing.assert_array_equal(line.get_ydata(), traj.omega[:, k])
-    assert ax.get_xlabel() == "t" and "omega" in ax.get_ylabel()
+    # principal moments given in ascending order: the body axes are axes 1, 2, 3
+    assert [line.get_label() for line in ax.lines] == [f"$\\omega_{{{k}}}$" for k in (1, 2, 3)]
+    assert ax.get_xlabel() == "$t$ (s)" and ax.get_ylabel() == "$\\omega$ (rad/s)"
 
 
 def test_drift(traj, tmp_path):
@@ -109,12 +111,18 @@ def test_polhode_explicit_energies_and_errors():
     x, y, z = (np.asarray(v) for v in a.get_data_3d())
     np.testing.assert_allclose(x * x + y * y + z * z, 1.0, rtol=1e-12)
     assert lines(ax, "separatrix") == []
-    with pytest.raises(ValueError, match="energy"):
+    with pytest.raises(ph.ArgumentError, match="energies"):
         plot.polhode([1.0, 2.0, 3.0], 1.0, energies=[5.0])
-    with pytest.raises(ValueError, match="ascending"):
-        plot.polhode([3.0, 2.0, 1.0])
     with pytest.raises(TypeError, match="sphere"):
         plot.polhode([1.0, 2.0, 3.0], sphere="no")
+    # moments in any order, as simulate takes them: the polhode of the ascending moments
+    for given in ([3.0, 2.0, 1.0], [2.0, 3.0, 1.0]):
+        ax, reference = plot.polhode(given, 2.0, [0.8, 1.5]), plot.polhode([1.0, 2.0, 3.0], 2.0,
+                                                                          [0.8, 1.5])
+        for a, b in zip(lines(ax, "polhode:"), lines(reference, "polhode:"), strict=True):
+            np.testing.assert_array_equal(a.get_data_3d(), b.get_data_3d())
+    with pytest.raises(ph.ArgumentError, match="polhode_curves|ascending"):
+        plot.polhode_curves([3.0, 2.0, 1.0], 1.0, 0.3)  # the helper: principal axes, ascending
 
 
 def test_herpolhode_in_invariable_plane(traj, tmp_path):

@@ -439,8 +439,24 @@ def test_bad_input_is_refused_with_the_argument_named(flipping, bar):
         plot.scene(ph.simulate(bar, OMEGA0, t, orientation=False))
     with pytest.raises(TypeError, match="polhode.Trajectory"):
         plot.scene("traj")
-    with pytest.raises(TypeError, match="polhode.Body"):
+    with pytest.raises(TypeError, match="Body"):
+        plot.scene(flipping, "bar")
+    # Moments are taken as simulate takes them, but they must be the trajectory's.
+    with pytest.raises(ph.ArgumentError, match="does not match") as error:
         plot.scene(flipping, [1.0, 2.0, 3.0])
+    assert error.value.argument == "body"
+
+
+def test_a_body_given_as_moments_or_a_tensor_is_its_inertia_box(flipping, bar_inertia):
+    """The bar's closed-form moments (in its own axes, which are principal), as numbers or as
+    the tensor: the construction of the closed-form tensor, the body drawn as its box."""
+    for body in (np.diag(bar_inertia), bar_inertia):
+        fig = plot.scene(flipping, body, frames=6)
+        check_frames(fig, flipping, bar_inertia, 8 * F32)
+        assert fig.data[0].name.startswith("inertia box")
+    with pytest.raises(ph.ArgumentError) as error:
+        plot.scene(flipping, bar_inertia, origin=[0.0, 0.0, 0.01])
+    assert error.value.argument == "origin"
     with pytest.raises(TypeError, match="mark"):
         plot.scene(flipping, mark=1.5)
 

@@ -36,13 +36,14 @@ ell = np.linalg.norm(sol.angular_momentum_body, axis=-1)
 print(f"T: {sol.energy[0]:.5f} -> {sol.energy[-1]:.5f} (L^2/(2 I3) = {ell[0] ** 2 / 10:.5f})")
 print(f"|L| drift: {np.max(np.abs(ell / ell[0] - 1)):.1e}")
 
-fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
 plot.dissipation(sol, ax=left)
-for k in range(3):
-    right.plot(t, sol.omega[:, k], label=f"omega_{k} (I = {moments[k]:g})")
-right.set_xlabel("t")
-right.set_ylabel("angular velocity, body axes")
-right.legend()
-right.set_title("the spin moves from the smallest axis to the largest")
-fig.tight_layout()
+plot.omega(sol, ax=right)
+right.set_title("The spin moves from axis 1 to axis 3")
+
+# %%
+# The angular momentum in the body, on the sphere ``|L|`` = const: coloured by time, it
+# spirals away from axis 1, crosses the separatrix and settles on axis 3.
+fig = plt.figure(figsize=(7, 5.5), layout="constrained")
+plot.polhode(traj=sol, ax=fig.add_subplot(projection="3d"))
 plt.show()

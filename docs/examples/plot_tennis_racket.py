@@ -23,7 +23,7 @@ print(t_handle)
 print(p)
 
 # %%
-# Spin it at 10 rad/s about the intermediate axis (column 1 of the principal axes), nudged by
+# Spin it at 10 rad/s about the intermediate axis (``p.axes[:, 1]``, axis 2), nudged by
 # 1e-3 rad/s about the smallest. The analysis says the intermediate axis is unstable and how
 # often the handle flips.
 spin = 10.0 * p.axes[:, 1] + 1e-3 * p.axes[:, 0]
@@ -42,11 +42,11 @@ sol = ph.simulate(t_handle, spin, t, orientation0=up)
 along = sol.omega @ p.axes  # omega in principal axes
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 for k, role in enumerate(("smallest", "intermediate", "largest")):
-    ax.plot(t, along[:, k], label=f"{role} axis ({k})")
+    ax.plot(t, along[:, k], label=f"$\\omega_{k + 1}$ ({role} moment)")
 for k in range(1, 5):
     ax.axvline(k * a.flip_interval - a.flip_interval / 2, color="0.8", zorder=0)
 ax.set_xlabel("t (s)")
-ax.set_ylabel("omega (rad/s), principal axes")
+ax.set_ylabel("$\\omega$ in the principal axes (rad/s)")
 ax.set_title("The T-handle's angular velocity: a flip every half period")
 ax.legend(loc="lower right")
 

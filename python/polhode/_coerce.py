@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from typing import Any
 
 import numpy as np
@@ -22,9 +23,12 @@ _FLOAT64 = np.dtype(np.float64)
 __all__ = [
     "as_array",
     "as_faces",
+    "as_finite",
+    "as_finite_array",
     "as_flag",
     "as_float_array",
     "as_integer",
+    "as_path",
     "as_rotation_matrix",
     "as_scalar",
     "as_scale",
@@ -47,6 +51,35 @@ def as_scalar(name: str, value: Any) -> float:
             return float(value)
         raise TypeError(f"Expected `{name}` to be a real number, got {type(value).__name__}.")
     return float(value)
+
+
+def as_finite(name: str, value: Any, *, positive: bool = False) -> float:
+    """A finite real number (``positive``: above zero) as float: TypeError naming ``name`` for
+    anything but a real number, NonFiniteError for NaN and infinities, NonPositiveError for
+    zero or less where a positive number is asked for."""
+    x = as_scalar(name, value)
+    if not math.isfinite(x):
+        raise NonFiniteError(
+            f"Expected `{name}` to be finite, got {_finite_str(x)}.", argument=name
+        )
+    if positive and not x > 0.0:
+        raise NonPositiveError(f"Expected `{name}` to be positive, got {x:g}.", argument=name)
+    return x
+
+
+def _finite_str(x: float) -> str:
+    """A non-finite number as the core writes it: NaN, inf, -inf."""
+    return "NaN" if math.isnan(x) else str(x)
+
+
+def as_path(name: str, value: Any) -> str:
+    """A file name: a str or an ``os.PathLike`` of one, as str; TypeError naming ``name`` for
+    anything else (bytes included)."""
+    if isinstance(value, os.PathLike):
+        value = os.fspath(value)
+    if not isinstance(value, str):
+        raise TypeError(f"Expected `{name}` to be a file name (str), got {_kind(value)}.")
+    return value
 
 
 def as_flag(name: str, value: Any) -> bool:
@@ -118,6 +151,20 @@ def as_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np
     ):
         raise ShapeError(
             f"Expected `{name}` to have shape {expected}, got {_shape_str(array.shape)}.",
+            argument=name,
+        )
+    return array
+
+
+def as_finite_array(name: str, value: Any, shape: tuple[int | None, ...]) -> NDArray[np.float64]:
+    """:func:`as_array` of finite numbers: NonFiniteError naming ``name`` (and the first
+    offending entry) for a NaN or an infinity."""
+    array = as_array(name, value, shape)
+    if not np.all(np.isfinite(array)):
+        index = tuple(int(i) for i in np.argwhere(~np.isfinite(array))[0])
+        where = f"{name}[{', '.join(map(str, index))}]" if index else name
+        raise NonFiniteError(
+            f"Expected `{where}` to be finite, got {_finite_str(float(array[index]))}.",
             argument=name,
         )
     return array

@@ -1,16 +1,19 @@
-"""The parts of :func:`polhode.plot.scene`: the checks of its arguments, the body's mesh
-and its marked end, arrows, discs and the frames' geometry (numpy only)."""
+"""The parts of :func:`polhode.plot.scene` (and what :func:`polhode.plot.animate` shares with
+it): the checks of its arguments, the body's mesh and its marked end, arrows, discs and the
+frames' geometry (numpy only)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _shapes
-from polhode.errors import ArgumentError, ShapeError
+from polhode._coerce import as_integer
+from polhode.errors import ArgumentError
+from polhode.plot._axes import one_trajectory
+from polhode.plot._labels import AXIS_ROLES
 
 if TYPE_CHECKING:
     from polhode.bodies import Body
@@ -45,8 +48,31 @@ AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
 PART_COLORS = ("#8fa8c8", "#d9a66b", "#9cc28f", "#c98fb8", "#c8c28f", "#8fc8c2")
 MARK_COLOR = "#ff7f0e"
 
-#: The words of the principal axes, indexed 0, 1, 2 with the moments ascending.
-AXIS_ROLES = ("smallest", "intermediate", "largest")
+__all__ = [
+    "AXIS_COLORS",
+    "AXIS_ROLES",
+    "CAP",
+    "L_TOLERANCE",
+    "MARK_COLOR",
+    "MAX_TURN",
+    "MIN_TIMES",
+    "PART_COLORS",
+    "TRACES",
+    "arrow_cone_faces",
+    "arrow_head",
+    "body_mesh",
+    "capped_polygons",
+    "check_trajectory",
+    "fan_faces",
+    "frame_indices",
+    "inertia_about_origin",
+    "largest_turn",
+    "mark_of",
+    "marked_end",
+    "plane_basis",
+    "plane_disc",
+    "unit_sphere",
+]
 
 #: Largest turn of omega (degrees, in the body or in space) between two points of the curves
 #: before :func:`scene` warns that they are too far apart to draw the curves.
@@ -54,9 +80,6 @@ MAX_TURN = 20.0
 
 #: Fewer output times than this, and :func:`scene` warns that they cannot draw the motion.
 MIN_TIMES = 10
-
-#: The units the labels say by default (SI), by quantity.
-UNITS = {"time": "s", "length": "m", "mass": "kg"}
 
 #: Relative change of L in space above which the figure says that L is not conserved.
 L_TOLERANCE = 1e-6
@@ -68,24 +91,7 @@ L_TOLERANCE = 1e-6
 
 
 def check_trajectory(trajectory: Any) -> Trajectory:
-    from polhode.simulation import Trajectory
-
-    if not isinstance(trajectory, Trajectory):
-        raise TypeError(
-            f"Expected `trajectory` to be a polhode.Trajectory, got {type(trajectory).__name__}."
-        )
-    if np.ndim(trajectory.omega) != 2:
-        raise ShapeError(
-            f"scene draws one body; `trajectory` is a batch of {np.shape(trajectory.omega)[0]} "
-            "bodies: pass one body's trajectory (simulate that body alone).",
-            argument="trajectory",
-        )
-    if trajectory.quaternion is None:
-        raise ArgumentError(
-            "`trajectory` has no orientation (simulated with orientation=False): simulate "
-            "with orientation=True to draw the body in space.",
-            argument="trajectory",
-        )
+    trajectory = one_trajectory(trajectory, "scene", name="trajectory", orientation=True)
     if trajectory.rotor_rates is not None:
         raise ArgumentError(
             "`trajectory` has internal rotors: Poinsot's construction is that of one rigid "
@@ -101,51 +107,32 @@ def check_trajectory(trajectory: Any) -> Trajectory:
     return trajectory
 
 
-def units_of(units: Any) -> dict[str, str]:
-    """The units of :func:`scene`'s labels: SI, with those given in place."""
-    if units is None:
-        return dict(UNITS)
-    if not isinstance(units, Mapping):
-        raise TypeError(
-            f"Expected `units` to be a dict such as {UNITS}, got {type(units).__name__}."
-        )
-    unknown = sorted(str(k) for k in units if k not in UNITS)
-    if unknown:
-        raise ArgumentError(
-            f"Expected the keys of `units` among {sorted(UNITS)}, got {unknown}.", argument="units"
-        )
-    for key, value in units.items():
-        if not isinstance(value, str) or not value.strip():
-            raise ArgumentError(
-                f"Expected `units[{key!r}]` to be a unit's name, got {value!r}.", argument="units"
-            )
-    return {**UNITS, **{k: str(v).strip() for k, v in units.items()}}
-
-
 def frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
-    """Indices into the output times: ``frames`` evenly spaced ones, or those given."""
-    if isinstance(frames, bool) or not (
-        isinstance(frames, int | np.integer) or np.ndim(frames) == 1
-    ):
+    """Indices into the ``count`` output times: ``frames`` evenly spaced ones (a number, at
+    least 1), or those given (integers from -count to count - 1)."""
+    if np.ndim(frames) == 0:
+        number = as_integer("frames", frames)
+        if number < 1:
+            raise ArgumentError(
+                f"Expected `frames` to be at least 1, got {number}.", argument="frames"
+            )
+        return np.unique(np.linspace(0, count - 1, min(number, count)).round().astype(np.int64))
+    if isinstance(frames, str | bytes) or np.ndim(frames) != 1:
         raise TypeError(
             f"Expected `frames` to be a number of frames or indices, got {type(frames).__name__}."
         )
-    if np.ndim(frames) == 0:
-        if int(frames) < 1:
-            raise ArgumentError(
-                f"Expected `frames` to be at least 1, got {frames}.", argument="frames"
-            )
-        return np.unique(
-            np.linspace(0, count - 1, min(int(frames), count)).round().astype(np.int64)
-        )
     indices = np.asarray(frames)
-    if indices.dtype.kind not in "iu" or indices.size == 0:
+    if indices.size == 0:
         raise ArgumentError(
             "Expected `frames` to be a non-empty array of output-time indices.", argument="frames"
         )
+    if indices.dtype.kind not in "iu":
+        raise TypeError(
+            f"Expected `frames` to be output-time indices (integers), got {indices.dtype}."
+        )
     if np.any(indices < -count) or np.any(indices >= count):
         raise ArgumentError(
-            f"Expected `frames` to index the {count} output times, got {frames!r}.",
+            f"Expected `frames` to index the {count} output times, got {indices.tolist()}.",
             argument="frames",
         )
     return np.asarray(indices % count, dtype=np.int64)
@@ -156,10 +143,13 @@ def relative_mismatch(a: Array, b: Array) -> float:
     return float(np.max(np.abs(a - b))) / scale if scale > 0 else float(np.max(np.abs(a - b)))
 
 
-def inertia_about_origin(trajectory: Trajectory, body: Body | None, origin: Array | None) -> Array:
+def inertia_about_origin(
+    trajectory: Trajectory, body: Body | None, origin: Array | None, tensor: Array | None = None
+) -> Array:
     """The inertia tensor (about the fixed point, in the trajectory's body axes) of the motion.
 
-    With a Body: its tensor about ``origin`` (default the centre of mass), checked against the
+    With a Body: its tensor about ``origin`` (default the centre of mass), and with ``tensor``
+    (a body given as principal moments or a tensor) that tensor, checked against the
     trajectory's principal moments and against its ``I omega``. Without: the diagonal of the
     trajectory's moments when its omega is in those axes (a motion simulated with principal
     moments), else the tensor fitted to ``I omega`` over the output times.
@@ -167,8 +157,10 @@ def inertia_about_origin(trajectory: Trajectory, body: Body | None, origin: Arra
     moments = np.asarray(trajectory.moments, dtype=np.float64)
     omega = np.asarray(trajectory.omega, dtype=np.float64)
     momentum = np.asarray(trajectory.angular_momentum_body, dtype=np.float64)
-    if body is not None:
-        tensor = body.inertia if origin is None else body.inertia_about(origin)
+    if body is not None or tensor is not None:
+        if tensor is None:
+            assert body is not None
+            tensor = body.inertia if origin is None else body.inertia_about(origin)
         eigen = np.linalg.eigvalsh(tensor)
         about = "its centre of mass" if origin is None else f"origin={origin.tolist()}"
         if relative_mismatch(eigen, np.sort(moments)) > 1e-9:
@@ -400,6 +392,83 @@ def marked_end(
         centre = vertices[int(np.argmax(vertices @ direction))]
     point = centre + (high - centre @ direction) * direction
     return vertices, faces, part_of[source], capped, point
+
+
+def mark_of(axes: Array, omega: Array, momentum: Array, mark: Any) -> tuple[int, Array]:
+    """The principal axis whose end is marked (``mark``, a 0-based index of the moments
+    ascending; default the one ``omega``, the first output time's, has its largest component
+    along: the axis spun about) and its marked end, the direction along it that points toward
+    the angular momentum ``momentum`` (body coordinates) at that time."""
+    if mark is None:
+        k = int(np.argmax(np.abs(omega @ axes)))
+    else:
+        k = as_integer("mark", mark, allowed=(0, 1, 2))
+    return k, axes[:, k] * (-1.0 if momentum @ axes[:, k] < 0 else 1.0)
+
+
+def _clipped(polygon: Array, signed: Array, above: bool) -> Array:
+    """The part of a convex polygon on one side of the plane ``signed == 0`` (Sutherland and
+    Hodgman's clipping; vertices on the plane belong to both sides)."""
+    side = signed >= 0.0 if above else signed <= 0.0
+    out = []
+    count = len(polygon)
+    for i in range(count):
+        j = (i + 1) % count
+        if side[i]:
+            out.append(polygon[i])
+        if signed[i] * signed[j] < 0.0:
+            t = signed[i] / (signed[i] - signed[j])
+            out.append(polygon[i] + t * (polygon[j] - polygon[i]))
+    return np.asarray(out, dtype=np.float64).reshape(-1, 3)
+
+
+def capped_polygons(
+    polygons: list[Array], owner: list[int], direction: Array
+) -> tuple[list[Array], list[int], NDArray[np.bool_], Array]:
+    """The polygons cut where the last CAP of the body's extent along ``direction`` begins
+    (:func:`marked_end` for polygons, which :func:`polhode.plot.animate` draws): the pieces,
+    each piece's owner (its polygon's), which pieces are in that cap, and the point drawn at
+    the end (the cap's centre, moved along ``direction`` to the body's end)."""
+    along = [q @ direction for q in polygons]
+    low = min(float(np.min(a)) for a in along)
+    high = max(float(np.max(a)) for a in along)
+    if not high > low:
+        return polygons, owner, np.zeros(len(polygons), dtype=bool), high * direction
+    level = high - CAP * (high - low)
+    pieces: list[Array] = []
+    owners: list[int] = []
+    capped: list[bool] = []
+    for polygon, part, a in zip(polygons, owner, along, strict=True):
+        signed = a - level
+        if np.all(signed >= 0.0) or np.all(signed <= 0.0):
+            pieces.append(polygon)
+            owners.append(part)
+            capped.append(bool(np.mean(signed) > 0.0))
+            continue
+        for above in (True, False):
+            piece = _clipped(polygon, signed, above)
+            if len(piece) >= 3:
+                pieces.append(piece)
+                owners.append(part)
+                capped.append(above)
+    flags = np.asarray(capped, dtype=bool)
+    centres = np.array([q.mean(axis=0) for q in pieces])
+    areas = np.array([_area(q) for q in pieces]) * flags
+    if areas.sum() > 0:
+        centre = (centres * areas[:, None]).sum(axis=0) / areas.sum()
+    else:
+        points = np.concatenate(polygons)
+        centre = points[int(np.argmax(points @ direction))]
+    return pieces, owners, flags, centre + (high - centre @ direction) * direction
+
+
+def _area(polygon: Array) -> float:
+    """The area of a planar polygon (the norm of half the sum of its fan's cross products)."""
+    first = polygon[0]
+    total = np.zeros(3)
+    for a, b in zip(polygon[1:-1], polygon[2:], strict=True):
+        total += np.cross(a - first, b - first)
+    return float(np.linalg.norm(total)) / 2.0
 
 
 def largest_turn(vectors: Array) -> float:

@@ -3,15 +3,18 @@ and the herpolhode in the invariable plane."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._coerce import as_flag
+from polhode._coerce import as_finite, as_finite_array, as_flag, as_float_array, as_integer
+from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
 from polhode.invariants import angular_momentum_space
-from polhode.plot._axes import new_axes, single
+from polhode.plot._axes import axes_for, one_trajectory
+from polhode.plot._frames import body_axes, fits, principal_of
+from polhode.plot._labels import labelled, subscripted, units_of
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -26,6 +29,25 @@ __all__ = [
     "polhode_curves",
     "separatrix_curves",
 ]
+
+#: A trajectory is drawn coloured by time (by default) where its energy changes by more than
+#: this, relative: a damper or a torque at work.
+ENERGY_CHANGE = 1e-3
+
+
+def _moments(moments: Any) -> NDArray[np.float64]:
+    """Three positive finite principal moments, ascending."""
+    m = as_finite_array("moments", moments, (3,))
+    if not np.all(m > 0):
+        raise NonPositiveError(
+            f"Expected `moments` to be positive, got {m.tolist()}.", argument="moments"
+        )
+    if np.any(np.diff(m) < 0):
+        raise ArgumentError(
+            f"Expected `moments` ascending (principal axes 1, 2, 3), got {m.tolist()}.",
+            argument="moments",
+        )
+    return m
 
 
 def _default_energies(moments: NDArray[np.float64], l2: float) -> list[float]:
@@ -42,17 +64,21 @@ def polhode_curves(
 ) -> list[NDArray[np.float64]]:
     """The closed curve(s) where the sphere ``|L|`` = const meets the ellipsoid sum L_i^2/I_i = 2T.
 
-    Returns one (n, 3) array per branch (body principal axes, moments ascending): two branches,
-    one around +axis and one around -axis (the smallest axis, 0, if 2T > L^2/I2; the largest, 2,
-    if below).
+    ``moments`` are the principal moments, ascending (I1 <= I2 <= I3). Returns one (n, 3) array
+    per branch, in the principal axes: two branches, one around +axis and one around -axis
+    (axis 1, of the smallest moment, if 2T > L^2/I2; axis 3, of the largest, if below).
     """
-    i1, i2, i3 = (float(m) for m in moments)
-    l2 = float(angular_momentum_norm) ** 2
-    two_t = 2.0 * float(energy)
+    i1, i2, i3 = (float(m) for m in _moments(moments))
+    ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
+    energy = as_finite("energy", energy)
+    n = as_integer("n", n, minimum=2)
+    l2 = ell**2
+    two_t = 2.0 * energy
     if not (l2 / i3 <= two_t <= l2 / i1):
-        raise ValueError(
-            f"Expected the energy in [L^2/(2 I3), L^2/(2 I1)] = [{l2 / (2 * i3)}, "
-            f"{l2 / (2 * i1)}] for |L| = {angular_momentum_norm}, got {energy}."
+        raise ArgumentError(
+            f"Expected `energy` in [L^2/(2 I3), L^2/(2 I1)] = [{l2 / (2 * i3):.6g}, "
+            f"{l2 / (2 * i1):.6g}] for |L| = {ell:.6g}, got {energy:.6g}.",
+            argument="energy",
         )
     phi = np.linspace(0.0, 2.0 * np.pi, n)
     c, s = np.cos(phi), np.sin(phi)
@@ -75,20 +101,80 @@ def separatrix_curves(
     moments: Sequence[float], angular_momentum_norm: float, n: int = 400
 ) -> list[NDArray[np.float64]]:
     """The separatrices 2T = L^2/I2 on the sphere: two great circles L3 = +-k L1, with
-    k^2 = (1/I1 - 1/I2)/(1/I2 - 1/I3). Empty for a symmetric body (I1 = I2 or I2 = I3)."""
-    i1, i2, i3 = (float(m) for m in moments)
+    k^2 = (1/I1 - 1/I2)/(1/I2 - 1/I3), in the principal axes (``moments`` ascending). Empty
+    for a symmetric body (I1 = I2 or I2 = I3)."""
+    i1, i2, i3 = (float(m) for m in _moments(moments))
+    ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
+    n = as_integer("n", n, minimum=2)
     if not i1 < i2 < i3:
         return []
-    L = float(angular_momentum_norm)
     k = np.sqrt((1 / i1 - 1 / i2) / (1 / i2 - 1 / i3))
     phi = np.linspace(0.0, 2.0 * np.pi, n)
-    l1 = L * np.cos(phi) / np.sqrt(1.0 + k * k)
-    l2 = L * np.sin(phi)
+    l1 = ell * np.cos(phi) / np.sqrt(1.0 + k * k)
+    l2 = ell * np.sin(phi)
     return [np.column_stack([l1, l2, sign * k * l1]) for sign in (1.0, -1.0)]
 
 
+def _in_principal_axes(
+    body: Any, traj: Trajectory | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """The principal moments (ascending) and, with ``traj``, its angular momentum in those
+    axes (M, 3): from ``body`` (checked against the trajectory), else from the trajectory's
+    own data."""
+    if body is None and traj is None:
+        raise TypeError(
+            "plot.polhode needs `body` (a Body, principal moments (3,) or an inertia tensor) "
+            "or `traj`."
+        )
+    momentum = None if traj is None else np.asarray(traj.angular_momentum_body, dtype=np.float64)
+    if body is not None:
+        moments, axes = principal_of(body)
+        if traj is not None and not fits(traj, axes @ np.diag(moments) @ axes.T):
+            raise ArgumentError(
+                "`body` does not match `traj`: its inertia (principal moments "
+                f"{moments.tolist()}) does not give the trajectory's angular momentum from its "
+                f"omega (moments {np.sort(traj.moments).tolist()}); pass the body the trajectory "
+                "was simulated with, in the same axes.",
+                argument="body",
+            )
+        return moments, None if momentum is None else momentum @ axes
+    assert traj is not None and momentum is not None
+    frame = body_axes(traj)
+    if frame.axes is None:
+        raise ArgumentError(
+            "`traj` does not tell its principal axes (its body axes are not principal and its "
+            "omega does not span every direction, as in a steady spin): pass the body it was "
+            "simulated with as `body`.",
+            argument="traj",
+        )
+    return frame.moments, momentum @ frame.axes
+
+
+def _energies(energies: Any, moments: NDArray[np.float64], ell: float) -> list[float]:
+    if energies is None:
+        return _default_energies(moments, ell * ell)
+    levels = as_float_array("energies", energies)
+    if levels.ndim != 1:
+        raise ShapeError(
+            f"Expected `energies` to have shape (K,), got {levels.shape}.", argument="energies"
+        )
+    if not np.all(np.isfinite(levels)):
+        raise NonFiniteError(
+            f"Expected `energies` to be finite, got {levels.tolist()}.", argument="energies"
+        )
+    low, high = ell * ell / (2 * moments[2]), ell * ell / (2 * moments[0])
+    outside = levels[(levels < low) | (levels > high)]
+    if outside.size:
+        raise ArgumentError(
+            f"Expected `energies` in [L^2/(2 I3), L^2/(2 I1)] = [{low:.6g}, {high:.6g}] for "
+            f"|L| = {ell:.6g}, got {outside.tolist()}.",
+            argument="energies",
+        )
+    return [float(e) for e in levels]
+
+
 def polhode(
-    moments: Sequence[float] | None = None,
+    body: Any = None,
     angular_momentum_norm: float | None = None,
     energies: Sequence[float] | None = None,
     ax: Axes | None = None,
@@ -96,20 +182,32 @@ def polhode(
     traj: Trajectory | None = None,
     sphere: bool = True,
     n: int = 400,
+    color_by_time: bool | None = None,
+    units: Mapping[str, str] | None = None,
 ) -> Axes:
-    """The polhode: the body angular momentum on the sphere ``|L|`` = const (3D axes).
+    """The polhode: the angular momentum in the principal axes on the sphere ``|L|`` = const
+    (3D axes), the axes numbered 1, 2, 3 with I1 <= I2 <= I3.
 
     Parameters
     ----------
-    moments : (3,) principal moments, ascending; default ``traj.moments``.
+    body : Body, (3,) principal moments or (3, 3) inertia tensor, optional
+        The body, as :func:`polhode.simulate` takes it (moments in any order); default: the
+        trajectory's (``traj``).
     angular_momentum_norm : ``|L|``; default ``|L|`` of ``traj`` at t[0], else 1.
     energies : kinetic energies T, one closed curve pair (both branches) each; default eight
         levels on both sides of the separatrix.
     ax : a 3D Axes (``projection="3d"``) or None for a new figure.
-    traj : a trajectory whose ``angular_momentum_body`` is overlaid (it is in the body's own
-        axes: simulate with principal moments, or a body whose axes are principal).
+    traj : a trajectory whose angular momentum is overlaid, turned into the principal axes:
+        those of ``body``, which must be the body it was simulated with, or without ``body``
+        those its own omega and angular momentum tell.
     sphere : draw a faint wireframe of the sphere.
-    n : points per curve.
+    n : points per curve (at least 2).
+    color_by_time : draw the trajectory coloured by time, with a colour bar, its start and its
+        end marked (and the energy levels only if ``energies`` are given: it crosses them);
+        default: where its energy changes by more than 0.1 % (a damper or a torque at work),
+        where it would otherwise be a tangle.
+    units : the units of the labels (see :func:`polhode.plot.omega`): L in mass length^2 per
+        time.
 
     The separatrices (2T = L^2/I2) are drawn in black, the energy levels in colour.
 
@@ -124,47 +222,47 @@ def polhode(
     ...           if line.get_gid().startswith("polhode")]
     >>> len(curves), bool(all(np.allclose(np.linalg.norm(c, axis=0), 1.0) for c in curves))
     (16, True)
+    >>> ax.get_xlabel()
+    '$L_{1}$ (kg m$^2$/s)'
     """
     if traj is not None:
-        single(traj, "polhode")
-    if moments is None:
-        if traj is None:
-            raise TypeError("polhode() needs `moments` or `traj`.")
-        moments = traj.moments
-    m = np.asarray(moments, dtype=np.float64)
-    if m.shape != (3,) or not np.all(np.isfinite(m)) or np.any(m <= 0):
-        raise ValueError(f"Expected three positive finite principal moments, got {moments!r}.")
-    if np.any(np.diff(m) < 0):
-        raise ValueError(f"Expected the principal moments ascending, got {m.tolist()}.")
-    if m[0] == m[2]:
-        raise ValueError("A spherical top (I1 = I2 = I3) has no polhode: every axis is fixed.")
-    if angular_momentum_norm is None:
-        angular_momentum_norm = (
-            1.0 if traj is None else float(np.linalg.norm(traj.angular_momentum_body[0]))
+        traj = one_trajectory(traj, "plot.polhode", moving=True)
+    moments, momentum = _in_principal_axes(body, traj)
+    if moments[0] == moments[2]:
+        raise ArgumentError(
+            "A spherical top (I1 = I2 = I3) has no polhode: every axis is fixed.",
+            argument="body" if body is not None else "traj",
         )
-    L = float(angular_momentum_norm)
-    if energies is None:
-        energies = _default_energies(m, L * L)
+    sphere = as_flag("sphere", sphere)
+    n = as_integer("n", n, minimum=2)
+    unit = units_of(units)
+    if angular_momentum_norm is None:
+        ell = 1.0 if momentum is None else float(np.linalg.norm(momentum[0]))
+    else:
+        ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
+    by_time = _by_time(color_by_time, traj)
+    # Coloured by time, the trajectory crosses the energy levels: none unless asked for.
+    levels = [] if by_time and energies is None else _energies(energies, moments, ell)
+    ax = axes_for(ax, "3d")
 
-    ax = new_axes("3d") if ax is None else ax
-    if as_flag("sphere", sphere):
+    if sphere:
         u, v = np.mgrid[0 : 2 * np.pi : 25j, 0 : np.pi : 13j]
         ax.plot_wireframe(
-            L * np.cos(u) * np.sin(v),
-            L * np.sin(u) * np.sin(v),
-            L * np.cos(v),
+            ell * np.cos(u) * np.sin(v),
+            ell * np.sin(u) * np.sin(v),
+            ell * np.cos(v),
             color="0.85",
             linewidth=0.4,
         )
     from matplotlib import colormaps
 
     cmap = colormaps["viridis"]
-    t_lo, t_hi = L * L / (2 * m[2]), L * L / (2 * m[0])
-    for energy in energies:
+    t_lo, t_hi = ell * ell / (2 * moments[2]), ell * ell / (2 * moments[0])
+    for energy in levels:
         color = cmap((energy - t_lo) / (t_hi - t_lo) if t_hi > t_lo else 0.5)
-        for curve in polhode_curves(m, L, energy, n):
+        for curve in polhode_curves(moments, ell, energy, n):
             ax.plot(*curve.T, color=color, linewidth=1.0, gid=f"polhode:{float(energy)!r}")
-    for k, curve in enumerate(separatrix_curves(m, L, n)):
+    for k, curve in enumerate(separatrix_curves(moments, ell, n)):
         ax.plot(
             *curve.T,
             color="black",
@@ -173,27 +271,99 @@ def polhode(
             gid="separatrix",
             label="separatrix" if k == 0 else None,
         )
-    if traj is not None:
-        Lb = np.asarray(traj.angular_momentum_body, dtype=np.float64)
-        ax.plot(*Lb.T, color="tab:red", linewidth=2.0, gid="trajectory", label="trajectory")
-    ax.set_xlabel("L, smallest axis (0)")
-    ax.set_ylabel("L, intermediate axis (1)")
-    ax.set_zlabel("L, largest axis (2)")
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_title("Polhode: L on |L| = const (body axes)")
+    if traj is not None and momentum is not None:
+        _trajectory(ax, traj, momentum, by_time, unit.time)
+    _label_axes(ax, [labelled(subscripted("L", k + 1), unit.momentum()) for k in range(3)])
+    ax.set_title("Polhode: $L$ on $|L|$ = const, principal axes ($I_1 \\leq I_2 \\leq I_3$)")
     if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="upper left")
     return ax
 
 
+def _label_axes(ax: Axes, labels: list[str]) -> None:
+    """Labels on the three axes of a cube of 3-D Axes, set off from five ticks each so that
+    they do not run into the tick labels, and the cube shrunk a little so that the labels
+    stay inside the figure."""
+    from matplotlib.ticker import MaxNLocator
+
+    for axis, label in zip((ax.xaxis, ax.yaxis, ax.zaxis), labels, strict=True):  # type: ignore[attr-defined]
+        axis.set_major_locator(MaxNLocator(5))
+        axis.set_label_text(label)
+        axis.labelpad = 8
+    ax.set_box_aspect((1, 1, 1), zoom=0.88)
+
+
+def _by_time(color_by_time: Any, traj: Trajectory | None) -> bool:
+    if traj is None:
+        if color_by_time is not None:
+            as_flag("color_by_time", color_by_time)
+        return False
+    if color_by_time is not None:
+        return as_flag("color_by_time", color_by_time)
+    energy = np.asarray(traj.energy, dtype=np.float64)
+    return bool(np.max(np.abs(energy - energy[0])) > ENERGY_CHANGE * abs(energy[0]))
+
+
+def _trajectory(
+    ax: Axes, traj: Trajectory, momentum: NDArray[np.float64], by_time: bool, time_unit: str
+) -> None:
+    """The trajectory's L on the sphere: the line ``"trajectory"`` in red, or, coloured by
+    time, the segments ``"trajectory:time"`` with a colour bar and the mark of t0 (the line
+    then holds the same points, hidden)."""
+    (line,) = ax.plot(
+        *momentum.T, color="tab:red", linewidth=2.0, gid="trajectory", label="trajectory"
+    )
+    if not by_time:
+        return
+    from matplotlib.colors import Normalize
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+    line.set_visible(False)
+    line.set_label("_trajectory")
+    ax.computed_zorder = False  # type: ignore[attr-defined]  # drawn in order: the ends on top
+    from matplotlib import colormaps
+    from matplotlib.colors import ListedColormap
+
+    # plasma without its last, pale yellow, which would vanish on the white background.
+    cmap = ListedColormap(colormaps["plasma"](np.linspace(0.0, 0.85, 256)))
+    t = np.asarray(traj.t, dtype=np.float64)
+    segments = np.stack([momentum[:-1], momentum[1:]], axis=1)
+    colors = Line3DCollection(
+        segments, cmap=cmap, norm=Normalize(float(t[0]), float(t[-1])), linewidth=0.9
+    )
+    colors.set_array((t[:-1] + t[1:]) / 2.0)
+    colors.set_gid("trajectory:time")
+    ax.add_collection3d(colors)
+    for gid, k, marker, label in (("start", 0, "o", "$t_0$"), ("end", -1, "s", "end")):
+        ax.plot(
+            *momentum[k].reshape(3, 1),
+            marker=marker,
+            color=cmap(0.0 if k == 0 else 1.0),
+            markeredgecolor="black",
+            markersize=6,
+            linestyle="",
+            gid=gid,
+            label=label,
+        )
+    ax.figure.colorbar(colors, ax=ax, shrink=0.6, pad=0.04, label=labelled("$t$", time_unit))
+
+
 def invariable_plane_basis(
     angular_momentum: Sequence[float], hint: Sequence[float] | None = None
 ) -> NDArray[np.float64]:
-    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/``|L|``; e1 along the part of
-    ``hint`` perpendicular to n when that is not zero."""
-    n = np.asarray(angular_momentum, dtype=np.float64)
+    """Rows e1, e2, n: an orthonormal right-handed basis with n = L/``|L|`` (L not zero); e1
+    along the part of ``hint`` perpendicular to n when that is not zero."""
+    n = as_finite_array("angular_momentum", angular_momentum, (3,))
+    size = float(np.max(np.abs(n)))
+    if size == 0.0:
+        raise ArgumentError(
+            "Expected `angular_momentum` to be non-zero (the invariable plane is perpendicular "
+            "to it), got [0, 0, 0].",
+            argument="angular_momentum",
+        )
+    n = n / size  # scaled first: the norm of 1e154-sized entries would overflow
     n = n / np.linalg.norm(n)
-    candidates = [] if hint is None else [np.asarray(hint, dtype=np.float64)]
+    candidates = [] if hint is None else [as_finite_array("hint", hint, (3,))]
     candidates += list(np.eye(3)[np.argsort(np.abs(n))])
     for c in candidates:
         e1 = c - np.dot(c, n) * n
@@ -209,17 +379,19 @@ def omega_space(traj: Trajectory) -> NDArray[np.float64]:
     """The angular velocity in space axes, (M, 3)."""
     from scipy.spatial.transform import Rotation
 
-    single(traj, "herpolhode")
-    if traj.quaternion is None:
-        raise ValueError("The herpolhode needs the orientation: simulate with orientation=True.")
+    traj = one_trajectory(traj, "plot.omega_space", orientation=True)
+    assert traj.quaternion is not None
     return np.asarray(Rotation.from_quat(traj.quaternion).apply(traj.omega), dtype=np.float64)
 
 
-def herpolhode(traj: Trajectory, ax: Axes | None = None) -> Axes:
+def herpolhode(
+    traj: Trajectory, ax: Axes | None = None, *, units: Mapping[str, str] | None = None
+) -> Axes:
     """The herpolhode: the tip of omega in space, in the invariable plane (perpendicular to L).
 
     Coordinates are along e1, e2 of :func:`invariable_plane_basis` for L(t0), with e1 along the
     initial omega's part in the plane; the component along L, 2T/``|L|``, is constant and dropped.
+    ``units`` as in :func:`polhode.plot.omega`.
 
     Examples
     --------
@@ -229,21 +401,25 @@ def herpolhode(traj: Trajectory, ax: Axes | None = None) -> Axes:
     >>> ax = ph.plot.herpolhode(sol)
     >>> [line.get_gid() for line in ax.get_lines()]
     ['herpolhode', 'L axis', 'start']
+    >>> ax.get_xlabel()
+    '$\\\\omega \\\\cdot e_1$ (rad/s)'
     """
+    traj = one_trajectory(traj, "plot.herpolhode", orientation=True, moving=True)
+    unit = units_of(units)
+    ax = axes_for(ax)
     w = omega_space(traj)
     space = angular_momentum_space(traj)
-    assert space is not None  # omega_space has checked the orientation
+    assert space is not None  # one_trajectory has checked the orientation
     basis = invariable_plane_basis(space[0], hint=w[0])
     xy = w @ basis[:2].T
-    ax = new_axes() if ax is None else ax
     ax.plot(xy[:, 0], xy[:, 1], color="tab:blue", linewidth=1.0, gid="herpolhode")
-    ax.plot([0.0], [0.0], marker="+", color="black", markersize=10, gid="L axis", label="L axis")
+    ax.plot([0.0], [0.0], marker="+", color="black", markersize=10, gid="L axis", label="$L$ axis")
     ax.plot(
-        xy[:1, 0], xy[:1, 1], marker="o", color="tab:red", linestyle="", gid="start", label="t0"
+        xy[:1, 0], xy[:1, 1], marker="o", color="tab:red", linestyle="", gid="start", label="$t_0$"
     )
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("omega . e1 (invariable plane)")
-    ax.set_ylabel("omega . e2 (invariable plane)")
-    ax.set_title("Herpolhode")
+    ax.set_xlabel(labelled("$\\omega \\cdot e_1$", unit.rate))
+    ax.set_ylabel(labelled("$\\omega \\cdot e_2$", unit.rate))
+    ax.set_title("Herpolhode: $\\omega$ in the invariable plane ($e_1, e_2 \\perp L$)")
     ax.legend(loc="upper right")
     return ax

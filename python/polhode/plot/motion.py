@@ -9,8 +9,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode._coerce import as_finite, as_finite_array, as_float_array, as_integer
+from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
 from polhode.invariants import relative_drift
-from polhode.plot._axes import AXIS_ROLES, FLOOR, new_axes, single
+from polhode.plot._axes import FLOOR, axes_for, check_floor, one_trajectory
+from polhode.plot._frames import body_axes, principal_of
+from polhode.plot._labels import AXIS_ROLES, labelled, subscripted, units_of
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -30,8 +34,26 @@ __all__ = [
 ]
 
 
-def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
+def omega(
+    traj: Trajectory, ax: Axes | None = None, *, units: Mapping[str, str] | None = None
+) -> Axes:
     """The three body-axis components of the angular velocity against time.
+
+    A trajectory's omega is in the body's own axes. Where those are principal (the body was
+    given as principal moments, or its axes are principal: read off the trajectory's omega and
+    angular momentum), the components are labelled by principal axis, omega_1, omega_2,
+    omega_3 with I1 <= I2 <= I3, and drawn in that order; otherwise omega_x, omega_y, omega_z.
+    The line of ``traj.omega[:, k]`` has the gid ``"omega[k]"``.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        One body's motion.
+    ax : a 2-D matplotlib Axes, optional
+        Drawn on if given, else on a new figure.
+    units : dict, optional
+        The units of the labels, ``{"time": "s", "length": "m", "mass": "kg"}`` by default
+        (SI; omega is in rad per time unit).
 
     Examples
     --------
@@ -40,18 +62,27 @@ def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
     >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], np.linspace(0.0, 50.0, 501))
     >>> ax = ph.plot.omega(sol)
     >>> [line.get_gid() for line in ax.get_lines()]
-    ['omega1', 'omega2', 'omega3']
-    >>> bool(np.array_equal(ax.get_lines()[1].get_ydata(), sol.omega[:, 1]))
-    True
+    ['omega[0]', 'omega[1]', 'omega[2]']
+    >>> [text.get_text() for text in ax.get_legend().get_texts()]
+    ['$\\\\omega_{1}$', '$\\\\omega_{2}$', '$\\\\omega_{3}$']
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('$t$ (s)', '$\\\\omega$ (rad/s)')
     >>> ax.figure.savefig("omega.png")  # doctest: +SKIP
     """
-    single(traj, "omega")
-    ax = new_axes() if ax is None else ax
-    for k in range(3):
-        ax.plot(traj.t, traj.omega[:, k], label=f"omega{k + 1}", gid=f"omega{k + 1}")
-    ax.set_xlabel("t")
-    ax.set_ylabel("omega (body axes)")
-    ax.set_title("Angular velocity")
+    traj = one_trajectory(traj, "plot.omega")
+    unit = units_of(units)
+    ax = axes_for(ax)
+    numbers = body_axes(traj).numbers
+    if numbers is None:
+        order, names, where = [0, 1, 2], ["x", "y", "z"], "body axes x, y, z (not principal)"
+    else:
+        order = sorted(range(3), key=lambda k: numbers[k])
+        names, where = [str(n) for n in numbers], "principal axes, $I_1 \\leq I_2 \\leq I_3$"
+    for k in order:
+        ax.plot(traj.t, traj.omega[:, k], label=subscripted("\\omega", names[k]), gid=f"omega[{k}]")
+    ax.set_xlabel(labelled("$t$", unit.time))
+    ax.set_ylabel(labelled("$\\omega$", unit.rate))
+    ax.set_title(f"Angular velocity in the {where}")
     ax.legend()
     return ax
 
@@ -59,18 +90,26 @@ def omega(traj: Trajectory, ax: Axes | None = None) -> Axes:
 #: The curves of :func:`drift`, by key of :func:`polhode.invariants.relative_drift`: the
 #: label, and the line's gid after ``"drift:"``.
 DRIFT_CURVES = {
-    "energy": ("T", "energy"),
-    "angular_momentum_norm": ("|L| (body)", "|L| body"),
-    "angular_momentum_space": ("L (space)", "L space"),
+    "energy": ("$T$", "energy"),
+    "angular_momentum_norm": ("$|L|$", "|L| body"),
+    "angular_momentum_space": ("$L$ in space", "L space"),
 }
 
 
-def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axes:
+def drift(
+    traj: Trajectory,
+    ax: Axes | None = None,
+    floor: float = FLOOR,
+    *,
+    units: Mapping[str, str] | None = None,
+) -> Axes:
     """Relative drift of the invariants against time on a log axis
     (:func:`polhode.invariants.relative_drift`).
 
-    Curves (in this order): T, ``|L|`` in body axes, L in space (if the trajectory has an
-    orientation); values below ``floor`` (exact zeros) are drawn at the floor, shown dashed.
+    Curves (in this order): T, ``|L|``, L in space (if the trajectory has an orientation); each
+    relative to its value at the first output time, so dimensionless. Values below ``floor``
+    (a positive number; exact zeros) are drawn at the floor, shown dashed. ``units`` as in
+    :func:`omega` (here the unit of time).
 
     Examples
     --------
@@ -80,9 +119,11 @@ def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axe
     >>> [line.get_gid() for line in ax.get_lines()]
     ['drift:energy', 'drift:|L| body', 'drift:L space', 'floor']
     """
-    single(traj, "drift")
+    traj = one_trajectory(traj, "plot.drift")
+    floor = check_floor(floor)
+    unit = units_of(units)
+    ax = axes_for(ax)
     errors = relative_drift(traj)
-    ax = new_axes() if ax is None else ax
     for key, values in errors.items():
         label, gid = DRIFT_CURVES[key]
         ax.semilogy(traj.t, np.maximum(values, floor), label=label, gid=f"drift:{gid}")
@@ -96,18 +137,21 @@ def drift(traj: Trajectory, ax: Axes | None = None, floor: float = FLOOR) -> Axe
         fontsize="small",
         color="0.4",
     )
-    ax.set_xlabel("t")
-    ax.set_ylabel("relative error")
+    ax.set_xlabel(labelled("$t$", unit.time))
+    ax.set_ylabel("relative drift, $|X(t) - X(t_0)| / |X(t_0)|$")
     ax.set_title("Drift of the invariants")
     ax.legend()
     return ax
 
 
-def dissipation(traj: Trajectory, ax: Axes | None = None) -> Axes:
+def dissipation(
+    traj: Trajectory, ax: Axes | None = None, *, units: Mapping[str, str] | None = None
+) -> Axes:
     """The energy sink: T and ``|L|`` against time, each relative to its value at t[0], with the
     energies of the separatrix (L^2 / (2 I2)) and of the spin about the largest axis
     (L^2 / (2 I3)), where a damper takes a body at fixed ``|L|`` (``traj.moments`` the principal
-    moments with the rotors locked, ascending).
+    moments with the rotors locked; I1 <= I2 <= I3). ``units`` as in :func:`omega` (here the
+    unit of time).
 
     Lines: ``"dissipation:energy"``, ``"dissipation:angular_momentum"``,
     ``"dissipation:separatrix"``, ``"dissipation:largest_axis"``.
@@ -124,20 +168,21 @@ def dissipation(traj: Trajectory, ax: Axes | None = None) -> Axes:
     >>> sorted(line.get_gid() for line in ax.lines)[:2]
     ['dissipation:angular_momentum', 'dissipation:energy']
     """
-    single(traj, "dissipation")
-    ax = new_axes() if ax is None else ax
+    traj = one_trajectory(traj, "plot.dissipation", moving=True)
+    unit = units_of(units)
+    ax = axes_for(ax)
     moments = np.sort(np.asarray(traj.moments, dtype=np.float64))
     ell = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
     energy = np.asarray(traj.energy, dtype=np.float64)
     t0_energy, l2 = energy[0], ell[0] ** 2
-    ax.plot(traj.t, energy / t0_energy, label="T", gid="dissipation:energy")
-    ax.plot(traj.t, ell / ell[0], label="|L|", gid="dissipation:angular_momentum")
+    ax.plot(traj.t, energy / t0_energy, label="$T / T(t_0)$", gid="dissipation:energy")
+    ax.plot(traj.t, ell / ell[0], label="$|L| / |L(t_0)|$", gid="dissipation:angular_momentum")
     ax.axhline(
         l2 / (2 * moments[1]) / t0_energy,
         color="black",
         linestyle="--",
         linewidth=1.0,
-        label="separatrix, L^2/(2 I2)",
+        label="separatrix, $L^2 / (2 I_2)$",
         gid="dissipation:separatrix",
     )
     ax.axhline(
@@ -145,21 +190,74 @@ def dissipation(traj: Trajectory, ax: Axes | None = None) -> Axes:
         color="0.5",
         linestyle=":",
         linewidth=1.2,
-        label="largest axis, L^2/(2 I3)",
+        label="spin about axis 3, $L^2 / (2 I_3)$",
         gid="dissipation:largest_axis",
     )
-    ax.set_xlabel("t")
-    ax.set_ylabel("relative to t = 0")
-    ax.set_title("Energy sink: T falls, |L| stays")
+    ax.set_xlabel(labelled("$t$", unit.time))
+    ax.set_ylabel("relative to its value at $t_0$")
+    ax.set_title("Energy sink: $T$ falls, $|L|$ stays")
     ax.legend()
     return ax
 
 
+def _series(results: Any) -> list[tuple[str, NDArray[np.float64], NDArray[np.float64]]]:
+    """The checked ``(name, times, errors)`` of work_precision's ``results``."""
+    if not isinstance(results, Mapping):
+        raise TypeError(
+            "Expected `results` to be a dict {name: (times, errors)}, got "
+            f"{type(results).__name__}."
+        )
+    if not results:
+        raise ArgumentError(
+            "Expected `results` to hold at least one series, got {}.", argument="results"
+        )
+    out = []
+    for name, pair in results.items():
+        where = f"results[{name!r}]"
+        if not isinstance(pair, Sequence) or isinstance(pair, str | bytes) or len(pair) != 2:
+            raise TypeError(
+                f"Expected `{where}` to be a pair (times, errors), got {type(pair).__name__}"
+                + (f" of {len(pair)}." if isinstance(pair, Sequence) else ".")
+            )
+        x = as_float_array(where, pair[0])
+        y = as_float_array(where, pair[1])
+        if x.ndim != 1 or x.shape != y.shape or x.size == 0:
+            raise ShapeError(
+                f"Expected `{where}` to be times and errors of one shape (K,), K >= 1, got "
+                f"{np.shape(pair[0])} and {np.shape(pair[1])}.",
+                argument="results",
+            )
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+            raise NonFiniteError(
+                f"Expected `{where}` to be finite, got times {x.tolist()} and errors {y.tolist()}.",
+                argument="results",
+            )
+        if np.any(x <= 0):
+            raise NonPositiveError(
+                f"Expected the times of `{where}` to be positive (a log axis), got {x.tolist()}.",
+                argument="results",
+            )
+        if np.any(y < 0):
+            raise ArgumentError(
+                f"Expected the errors of `{where}` to be >= 0, got {y.tolist()}.",
+                argument="results",
+            )
+        out.append((str(name), x, y))
+    return out
+
+
 def work_precision(
-    results: Mapping[str, tuple[Any, Any]], ax: Axes | None = None, floor: float = FLOOR
+    results: Mapping[str, tuple[Any, Any]],
+    ax: Axes | None = None,
+    floor: float = FLOOR,
+    *,
+    units: Mapping[str, str] | None = None,
 ) -> Axes:
     """Error against (wall) time on log-log axes, one series per name: ``{name: (times,
-    errors)}``. Errors below ``floor`` are drawn at the floor.
+    errors)}`` with positive times and errors >= 0, relative errors (dimensionless, as
+    :mod:`polhode.bench` gives them; another error: ``ax.set_ylabel(...)``). Errors below
+    ``floor`` are drawn at the floor. ``units``: ``{"time": ...}`` is the unit of the times
+    (default s).
 
     Examples
     --------
@@ -171,21 +269,19 @@ def work_precision(
     >>> ax.get_lines()[1].get_ydata().tolist()  # an exact zero, drawn at the floor
     [1e-17]
     """
-    ax = new_axes() if ax is None else ax
-    for name, (times, errors) in results.items():
-        x = np.asarray(times, dtype=np.float64)
-        y = np.maximum(np.asarray(errors, dtype=np.float64), floor)
-        if x.shape != y.shape or x.ndim != 1:
-            raise ValueError(
-                f"Expected matching 1-D times and errors for {name!r}, got {x.shape}, {y.shape}."
-            )
+    series = _series(results)
+    floor = check_floor(floor)
+    unit = units_of(units)
+    ax = axes_for(ax)
+    for name, x, errors in series:
+        y = np.maximum(errors, floor)
         order = np.argsort(x, kind="stable")
-        ax.loglog(x[order], y[order], marker="o", label=str(name), gid=f"work_precision:{name}")
+        ax.loglog(x[order], y[order], marker="o", label=name, gid=f"work_precision:{name}")
     from matplotlib.ticker import NullFormatter
 
     ax.xaxis.set_minor_formatter(NullFormatter())  # crowded labels over less than a decade
-    ax.set_xlabel("time")
-    ax.set_ylabel("error")
+    ax.set_xlabel(labelled("wall time", unit.time))
+    ax.set_ylabel("relative error")
     ax.set_title("Work-precision")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
@@ -202,8 +298,61 @@ SLOPE_OFFSET = 4.0
 PERTURBATION_DIRECTION = (0.7, -0.4, 0.5)
 
 
+#: perturbation()'s arguments, as perturbation_errors' arguments that set them.
+_ARGUMENTS = {"omega0": "eps", "moments": "body", "order": "orders"}
+
+
+def _epsilons(eps: Any) -> NDArray[np.float64]:
+    epsilons = as_float_array("eps", eps)
+    if np.ndim(eps) != 1 or epsilons.size == 0:
+        raise ShapeError(
+            f"Expected `eps` to be a 1-D array of values (K,), K >= 1, got shape {np.shape(eps)}.",
+            argument="eps",
+        )
+    if not np.all(np.isfinite(epsilons)):
+        raise NonFiniteError(
+            f"Expected `eps` to be finite, got {epsilons.tolist()}.", argument="eps"
+        )
+    if not np.all(epsilons > 0):
+        raise NonPositiveError(
+            f"Expected `eps` to be positive, got {epsilons.tolist()}.", argument="eps"
+        )
+    return epsilons
+
+
+def _orders(orders: Any) -> list[int]:
+    if isinstance(orders, str | bytes) or not isinstance(orders, Sequence | np.ndarray):
+        raise TypeError(
+            f"Expected `orders` to be a sequence of orders (0, 1, 2), got {type(orders).__name__}."
+        )
+    if len(orders) == 0:
+        raise ArgumentError(
+            "Expected `orders` to hold at least one order, got none.", argument="orders"
+        )
+    return [as_integer("orders", n, allowed=(0, 1, 2)) for n in orders]
+
+
+def _times(t: Any) -> NDArray[np.float64]:
+    if np.ndim(t) == 0:  # an end time (or not a number: a TypeError naming `t`)
+        return np.linspace(0.0, as_finite("t", t, positive=True), 41)
+    times = as_float_array("t", t)
+    if times.ndim != 1:
+        raise ShapeError(
+            f"Expected `t` to be an end time or times (M,), got shape {times.shape}.", argument="t"
+        )
+    if not np.all(np.isfinite(times)):
+        raise NonFiniteError(f"Expected `t` to be finite, got {times.tolist()}.", argument="t")
+    if times[0] != 0.0:
+        raise ArgumentError(
+            f"Expected `t` to start at 0 (omega0 is the angular velocity at t = 0), got "
+            f"{times[0]}.",
+            argument="t",
+        )
+    return times
+
+
 def perturbation_errors(
-    moments: Sequence[float],
+    body: Any,
     axis: int,
     eps: Any,
     orders: Sequence[int] = (1, 2),
@@ -214,43 +363,63 @@ def perturbation_errors(
 ) -> dict[int, NDArray[np.float64]]:
     """Largest error of the expansion of each order against the exact solution, per eps.
 
-    For each ``eps``, omega0 is ``eps * direction`` with the ``axis`` entry set to ``spin``; the
-    error is max |omega_expansion - omega_exact| over the components and the times ``t`` (an end
-    time means 41 times from 0 to it). The exact solution is ``polhode.simulate(...,
-    method="exact")``, all eps in one batch.
+    ``body`` is what :func:`polhode.simulate` takes for one body (a Body, principal moments in
+    any order, an inertia tensor); the motion is computed in its principal axes, moments
+    ascending, and ``axis`` (0, 1 or 2) indexes them (principal axis ``axis + 1``). For each
+    ``eps``, omega0 is ``eps * direction`` with the ``axis`` entry set to ``spin``; the error is
+    max |omega_expansion - omega_exact| over the components and the times ``t`` (an end time
+    means 41 times from 0 to it; times must start at 0). The exact solution is
+    ``polhode.simulate(..., method="exact")``, all eps in one batch.
     """
-    from polhode.perturbation import perturbation
+    from polhode.errors import PolhodeError
+    from polhode.perturbation import EPS_MAX, perturbation
     from polhode.simulation import simulate
 
-    epsilons = np.asarray(eps, dtype=np.float64)
-    if epsilons.ndim != 1 or epsilons.size == 0:
-        raise ValueError(f"Expected `eps` to be a 1-D array of values, got shape {epsilons.shape}.")
-    if not np.all(np.isfinite(epsilons) & (epsilons > 0)):
-        raise ValueError(f"Expected `eps` to be positive and finite, got {epsilons.tolist()}.")
-    times = np.asarray(t, dtype=np.float64)
-    if times.ndim == 0:
-        times = np.linspace(0.0, float(times), 41)
-    shape = np.asarray(direction, dtype=np.float64)
-    if shape.shape != (3,) or not np.all(np.isfinite(shape)):
-        raise ValueError(f"Expected `direction` to be three finite numbers, got {direction!r}.")
-    if isinstance(axis, bool) or axis not in (0, 1, 2):
-        raise ValueError(f"Expected `axis` to be 0, 1 or 2, got {axis!r}.")
+    moments, _ = principal_of(body)
+    axis = as_integer("axis", axis, allowed=(0, 1, 2))
+    epsilons = _epsilons(eps)
+    orders = _orders(orders)
+    times = _times(t)
+    spin = as_finite("spin", spin)
+    if spin == 0.0:
+        raise ArgumentError(
+            "Expected `spin` to be non-zero (the spin about `axis`), got 0.", argument="spin"
+        )
+    shape = as_finite_array("direction", direction, (3,))
+    off_axis = float(np.linalg.norm(np.delete(shape, axis)))
+    if off_axis == 0.0:
+        raise ArgumentError(
+            f"Expected `direction` to have a component off axis {axis + 1} (its entry [{axis}] is "
+            f"replaced by the spin), got {shape.tolist()}.",
+            argument="direction",
+        )
+    largest = float(np.max(epsilons)) * off_axis / abs(spin)
+    if not largest <= EPS_MAX:
+        raise ArgumentError(
+            f"Expected `eps` within the expansion's domain, eps |direction off the axis| / |spin| "
+            f"<= {EPS_MAX}, got {largest:.3g} for eps = {float(np.max(epsilons)):.3g}.",
+            argument="eps",
+        )
     omega0 = epsilons[:, None] * shape
     omega0[:, axis] = spin
-    exact = simulate(moments, omega0, times, method="exact", orientation=False).omega
-    errors = {}
-    for order in orders:
-        errors[int(order)] = np.array(
-            [
-                np.max(np.abs(perturbation(moments, w, times, axis=axis, order=order) - e))
-                for w, e in zip(omega0, exact, strict=True)
-            ]
-        )
+    try:
+        exact = simulate(moments, omega0, times, method="exact", orientation=False).omega
+        errors = {}
+        for order in orders:
+            errors[order] = np.array(
+                [
+                    np.max(np.abs(perturbation(moments, w, times, axis=axis, order=order) - e))
+                    for w, e in zip(omega0, exact, strict=True)
+                ]
+            )
+    except PolhodeError as error:
+        argument = _ARGUMENTS.get(str(error.argument), error.argument)
+        raise type(error)(error.message, argument=argument) from error
     return errors
 
 
 def perturbation_error(
-    moments: Sequence[float],
+    body: Any,
     axis: int = 2,
     eps: Any = None,
     orders: Sequence[int] = (1, 2),
@@ -260,14 +429,18 @@ def perturbation_error(
     spin: float = 1.0,
     direction: Sequence[float] = PERTURBATION_DIRECTION,
     floor: float = FLOOR,
+    units: Mapping[str, str] | None = None,
 ) -> Axes:
     """Error of the perturbation expansion against eps on log-log axes, with slopes eps^(n+1).
 
-    Spin ``spin`` about principal ``axis`` of ``moments``, perturbed by ``eps * direction``
-    (default eps: 13 values from 1e-4 to 1e-1); for each order n in ``orders``, the largest error
-    of :func:`polhode.perturbation` against the exact solution over the times ``t`` (see
+    Spin ``spin`` (rad per time unit) about principal axis ``axis`` of ``body`` (a Body,
+    principal moments or a tensor, as :func:`polhode.simulate` takes; ``axis`` 0, 1 or 2
+    indexes the moments ascending), perturbed by ``eps * direction`` (default eps: 13 values
+    from 1e-4 to 1e-1); for each order n in ``orders``, the largest error of
+    :func:`polhode.perturbation` against the exact solution over the times ``t`` (see
     :func:`perturbation_errors`), with a dashed reference line eps^(n+1) starting
-    ``SLOPE_OFFSET`` below its smallest-eps point. Errors below ``floor`` are drawn at the floor.
+    ``SLOPE_OFFSET`` below its smallest-eps point. Errors below ``floor`` are drawn at the
+    floor. ``units`` as in :func:`omega` (the error is in rad per time unit).
 
     Examples
     --------
@@ -280,10 +453,14 @@ def perturbation_error(
     >>> errors = first.get_ydata()
     >>> round(float(np.log10(errors[1] / errors[0])), 2)  # over one decade of eps
     2.0
+    >>> ax.get_title()
+    'Expansion near axis 1 (smallest moment)'
     """
-    epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else np.asarray(eps, dtype=np.float64)
-    errors = perturbation_errors(moments, axis, epsilons, orders, t, spin=spin, direction=direction)
-    ax = new_axes() if ax is None else ax
+    epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else _epsilons(eps)
+    errors = perturbation_errors(body, axis, epsilons, orders, t, spin=spin, direction=direction)
+    floor = check_floor(floor)
+    unit = units_of(units)
+    ax = axes_for(ax)
     order_of = np.argsort(epsilons, kind="stable")
     x = epsilons[order_of]
     for n, values in errors.items():
@@ -298,12 +475,10 @@ def perturbation_error(
             label=f"$\\epsilon^{{{n + 1}}}$",
             gid=f"slope:{n + 1}",
         )
-    ax.set_xlabel("$\\epsilon$ (size of the perturbation)")
-    ax.set_ylabel("max |omega - omega_exact|")
-    ax.set_title(
-        f"Perturbation expansion near the {AXIS_ROLES[axis]} axis ({axis}): "
-        "error against $\\epsilon$"
-    )
+    ax.set_xlabel("$\\epsilon$, the perturbation's size relative to the spin")
+    ax.set_ylabel(labelled("$\\max\\,|\\omega - \\omega_{exact}|$", unit.rate))
+    k = int(axis)
+    ax.set_title(f"Expansion near axis {k + 1} ({AXIS_ROLES[k]} moment)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     return ax

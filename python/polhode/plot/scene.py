@@ -6,19 +6,27 @@ invariable plane (perpendicular to L, at ``2T / |L|`` from the fixed point), ome
 fixed point to the contact point, the polhode (omega's path on the ellipsoid) and the
 herpolhode (its path on the plane). plotly is imported inside the function: ``import polhode``
 never needs it.
+
+The work is in steps, each a function: the arguments checked (:func:`_settings`), the motion
+at every output time and the frames' times (:class:`_Motion`), the sizes of the scene and the
+body's mesh (:class:`_Geometry`), each frame's points (:func:`_frame_data`), the traces, the
+frames and the layout.
 """
 
 from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._coerce import as_array, as_integer, as_scalar
+from polhode._coerce import as_finite, as_finite_array, as_integer, as_path
 from polhode.errors import ArgumentError
+from polhode.plot._frames import principal_of
+from polhode.plot._labels import Units, units_of
 from polhode.plot._poinsot import (
     AXIS_COLORS,
     AXIS_ROLES,
@@ -37,11 +45,11 @@ from polhode.plot._poinsot import (
     frame_indices,
     inertia_about_origin,
     largest_turn,
+    mark_of,
     marked_end,
     plane_basis,
     plane_disc,
     unit_sphere,
-    units_of,
 )
 
 if TYPE_CHECKING:
@@ -110,9 +118,10 @@ def scene(
         One body's motion with its orientation (any method, ``orientation=True``). The
         polhode and herpolhode go through its output times (at most ``curve_points`` of them):
         give output times close enough to draw them.
-    body : Body, optional
-        The body it was simulated with (its principal moments and axes must match the
-        trajectory's); default: drawn as the box of the trajectory's moments.
+    body : Body, (3,) principal moments or (3, 3) inertia tensor, optional
+        The body it was simulated with, as :func:`polhode.simulate` takes it (its principal
+        moments and axes must match the trajectory's); principal moments or a tensor are
+        drawn as their inertia box; default: drawn as the box of the trajectory's moments.
     frames : int or array_like of int
         The number of frames at evenly spaced output times (default 120, at most one per
         output time), or the indices of the output times.
@@ -183,12 +192,60 @@ def scene(
     >>> fig.write_html("scene.html")  # doctest: +SKIP
     """
     import plotly.graph_objects as go
-    from scipy.spatial.transform import Rotation
-
-    from polhode.analysis import analyze
-    from polhode.bodies import Body
 
     trajectory = check_trajectory(trajectory)
+    body, tensor = _body(body)
+    settings = _settings(
+        body,
+        origin=origin,
+        dtype=dtype,
+        curve_points=curve_points,
+        resolution=resolution,
+        max_vertices=max_vertices,
+        frame_duration=frame_duration,
+        units=units,
+        path=path,
+    )
+    motion = _Motion(trajectory, body, tensor, settings, frames, mark)
+    geometry = _Geometry(motion, body, settings)
+    figure = go.Figure(
+        data=_traces(motion, geometry, body, settings),
+        layout=_layout(motion, geometry, settings),
+        frames=_frames(motion, geometry, settings),
+    )
+    if settings.path is not None:
+        figure.write_html(settings.path, include_plotlyjs=True, auto_play=False)
+    return figure
+
+
+def _body(body: Any) -> tuple[Body | None, Array | None]:
+    """A Body (drawn as it was built), or principal moments or a tensor (in the trajectory's
+    body axes: drawn as their inertia box, as without a body) as that tensor."""
+    from polhode.bodies import Body
+
+    if body is None or isinstance(body, Body):
+        return body, None
+    moments, axes = principal_of(body)
+    return None, axes @ np.diag(moments) @ axes.T
+
+
+@dataclass(frozen=True)
+class _Settings:
+    """scene's arguments, checked."""
+
+    fixed: Array | None
+    store: np.dtype[Any]
+    curve_points: int
+    resolution: int
+    max_vertices: int
+    frame_duration: float
+    unit: Units
+    path: str | None
+
+
+def _settings(body: Any, *, origin: Any, dtype: Any, **given: Any) -> _Settings:
+    from polhode.bodies import Body
+
     if body is not None and not isinstance(body, Body):
         raise TypeError(f"Expected `body` to be a polhode.Body or None, got {type(body).__name__}.")
     fixed = None
@@ -197,7 +254,7 @@ def scene(
             raise ArgumentError(
                 "`origin` is a point of `body`: give it with a Body.", argument="origin"
             )
-        fixed = as_array("origin", origin, (3,))
+        fixed = as_finite_array("origin", origin, (3,))
     if not (isinstance(dtype, type) or isinstance(dtype, np.dtype) or isinstance(dtype, str)):
         raise TypeError(f"Expected `dtype` to be numpy.float32 or float64, got {dtype!r}.")
     try:
@@ -210,161 +267,211 @@ def scene(
         raise ArgumentError(
             f"Expected `dtype` to be numpy.float32 or float64, got {store}.", argument="dtype"
         )
-    curve_points = as_integer("curve_points", curve_points, minimum=2)
-    resolution = as_integer("resolution", resolution, minimum=6)
-    max_vertices = as_integer("max_vertices", max_vertices, minimum=8)
-    frame_duration = as_scalar("frame_duration", frame_duration)
-    if not (np.isfinite(frame_duration) and frame_duration >= 0):
+    frame_duration = as_finite("frame_duration", given["frame_duration"])
+    if not frame_duration >= 0:
         raise ArgumentError(
             f"Expected `frame_duration` to be finite and >= 0, got {frame_duration}.",
             argument="frame_duration",
         )
-
-    unit = units_of(units)
-    rate = f"rad/{unit['time']}"
-    t = np.asarray(trajectory.t, dtype=np.float64)
-    omega_body = np.asarray(trajectory.omega, dtype=np.float64)
-    if not np.all(np.any(omega_body != 0.0, axis=1)):
-        raise ArgumentError(
-            "`trajectory` is at rest at some output time (omega = 0): no energy ellipsoid, no "
-            "invariable plane.",
-            argument="trajectory",
-        )
-    indices = frame_indices(frames, t.size)
-    tensor = inertia_about_origin(trajectory, body, fixed)
-    moments, axes = np.linalg.eigh(tensor)
-    if mark is None:
-        mark = int(np.argmax(np.abs(omega_body[0] @ axes)))
-    else:
-        mark = as_integer("mark", mark, allowed=(0, 1, 2))
-    mark = int(mark)
-    direction = axes[:, mark] * (-1.0 if (tensor @ omega_body[0]) @ axes[:, mark] < 0 else 1.0)
-
-    # Every output time: rotations, omega in space, T, L in space.
-    rotations = Rotation.from_quat(np.asarray(trajectory.quaternion)).as_matrix()
-    omega_space = np.einsum("mij,mj->mi", rotations, omega_body)
-    momentum_body = omega_body @ tensor.T
-    energy = 0.5 * np.einsum("mi,mi->m", omega_body, momentum_body)
-    momentum = np.einsum("mij,mj->mi", rotations, momentum_body)
-    size_l = np.linalg.norm(momentum, axis=1)
-    normal = momentum / size_l[:, None]
-    distance = 2.0 * energy / size_l
-    change = float(np.max(np.linalg.norm(momentum - momentum[0], axis=1)) / size_l[0])
-    moving = change > L_TOLERANCE
-
-    # The curves: at most curve_points output times, every frame's among them.
-    every = np.unique(np.linspace(0, t.size - 1, min(curve_points, t.size)).round())
-    curve = np.union1d(every.astype(np.int64), indices)
-    turn = max(largest_turn(omega_body[curve]), largest_turn(omega_space[curve]))
-    if t.size < MIN_TIMES:
-        warnings.warn(
-            f"`trajectory` has {t.size} output times: the scene has as many frames at most, and "
-            "its curves as many points. Simulate at more output times "
-            "(t=numpy.linspace(t0, t1, 1000)).",
-            UserWarning,
-            stacklevel=2,
-        )
-    elif turn > MAX_TURN:
-        advice = (
-            "raise `curve_points`"
-            if curve.size < t.size
-            else "simulate at more output times (t=numpy.linspace(t0, t1, 1000))"
-        )
-        warnings.warn(
-            "The polhode and the herpolhode are drawn as straight segments between output "
-            f"times, and omega turns by up to {turn:.0f} degrees between two of them: {advice}.",
-            UserWarning,
-            stacklevel=2,
-        )
-
-    # Sizes: the largest semi-axis, the plane's reach, the scene's half-width.
-    semi = np.sqrt(2.0 * energy[:, None] / moments[None, :])  # (M, 3)
-    largest = float(np.max(semi))
-    centres = distance[:, None] * normal
-    spread = float(np.max(np.linalg.norm(omega_space - centres, axis=1)))
-    radius = max(1.15 * spread, 0.6 * largest)
-    half = 1.08 * max(largest, float(np.max(np.sqrt(distance**2 + radius**2))))
-    l_length = 0.97 * half
-    head_length, head_radius = 0.07 * half, 0.025 * half
-
-    # The body about the fixed point, scaled to fit in the smallest ellipsoid of the frames.
-    origin_point = (
-        (body.center_of_mass if fixed is None else fixed) if body is not None else np.zeros(3)
+    return _Settings(
+        fixed=fixed,
+        store=store,
+        curve_points=as_integer("curve_points", given["curve_points"], minimum=2),
+        resolution=as_integer("resolution", given["resolution"], minimum=6),
+        max_vertices=as_integer("max_vertices", given["max_vertices"], minimum=8),
+        frame_duration=frame_duration,
+        unit=units_of(given["units"]),
+        path=None if given["path"] is None else as_path("path", given["path"]),
     )
-    vertices, faces, part_of, what = body_mesh(body, tensor, origin_point, resolution, max_vertices)
-    quadratic = np.einsum("vi,ij,vj->v", vertices, tensor, vertices)
-    reach = float(np.max(quadratic)) if vertices.size else 0.0
-    scale = 0.85 * float(np.sqrt(2.0 * np.min(energy) / reach)) if reach > 0 else 1.0
-    vertices, faces, part_of, capped, mark_point = marked_end(vertices, faces, part_of, direction)
-    face_colors = np.where(capped, MARK_COLOR, np.asarray(PART_COLORS)[part_of % len(PART_COLORS)])
 
-    sphere, sphere_faces = unit_sphere(resolution)
-    e1, e2 = plane_basis(normal[0], omega_space[0] - centres[0])
 
-    # The regime, from the motion at the first output time.
-    regime = analyze(tensor, omega_body[0]).regime
-    if moving:
-        condition = f"L not conserved (changes by {change:.2g} of |L|): L and the plane move"
-    else:
-        condition = f"regime {regime}"
+class _Motion:
+    """The motion at every output time (rotations, omega in body and space, T, L), the
+    tensor and its principal axes, the marked axis, the frames' and the curves' output
+    times, and whether L moves."""
 
-    def cast(values: Array) -> NDArray[Any]:
-        return np.ascontiguousarray(values, dtype=store)
+    def __init__(
+        self,
+        trajectory: Trajectory,
+        body: Body | None,
+        given: Array | None,
+        settings: _Settings,
+        frames: Any,
+        mark: Any,
+    ):
+        from scipy.spatial.transform import Rotation
+
+        self.t = t = np.asarray(trajectory.t, dtype=np.float64)
+        self.omega_body = omega_body = np.asarray(trajectory.omega, dtype=np.float64)
+        if not np.all(np.any(omega_body != 0.0, axis=1)):
+            raise ArgumentError(
+                "`trajectory` is at rest at some output time (omega = 0): no energy ellipsoid, "
+                "no invariable plane.",
+                argument="trajectory",
+            )
+        self.indices = indices = frame_indices(frames, t.size)
+        self.tensor = tensor = inertia_about_origin(trajectory, body, settings.fixed, given)
+        self.moments, self.axes = np.linalg.eigh(tensor)
+        self.mark, self.direction = mark_of(self.axes, omega_body[0], tensor @ omega_body[0], mark)
+
+        # Every output time: rotations, omega in space, T, L in space.
+        self.rotations = Rotation.from_quat(np.asarray(trajectory.quaternion)).as_matrix()
+        self.omega_space = np.einsum("mij,mj->mi", self.rotations, omega_body)
+        momentum_body = omega_body @ tensor.T
+        self.energy = 0.5 * np.einsum("mi,mi->m", omega_body, momentum_body)
+        momentum = np.einsum("mij,mj->mi", self.rotations, momentum_body)
+        self.size_l = np.linalg.norm(momentum, axis=1)
+        self.normal = momentum / self.size_l[:, None]
+        self.distance = 2.0 * self.energy / self.size_l
+        self.change = float(np.max(np.linalg.norm(momentum - momentum[0], axis=1)) / self.size_l[0])
+        self.moving = self.change > L_TOLERANCE
+
+        # The curves: at most curve_points output times, every frame's among them.
+        every = np.unique(np.linspace(0, t.size - 1, min(settings.curve_points, t.size)).round())
+        self.curve = np.union1d(every.astype(np.int64), indices)
+        self._warn_if_sparse()
+
+    def _warn_if_sparse(self) -> None:
+        t, curve = self.t, self.curve
+        turn = max(largest_turn(self.omega_body[curve]), largest_turn(self.omega_space[curve]))
+        if t.size < MIN_TIMES:
+            warnings.warn(
+                f"`trajectory` has {t.size} output times: the scene has as many frames at most, "
+                "and its curves as many points. Simulate at more output times "
+                "(t=numpy.linspace(t0, t1, 1000)).",
+                UserWarning,
+                stacklevel=4,
+            )
+        elif turn > MAX_TURN:
+            advice = (
+                "raise `curve_points`"
+                if curve.size < t.size
+                else "simulate at more output times (t=numpy.linspace(t0, t1, 1000))"
+            )
+            warnings.warn(
+                "The polhode and the herpolhode are drawn as straight segments between output "
+                f"times, and omega turns by up to {turn:.0f} degrees between two of them: "
+                f"{advice}.",
+                UserWarning,
+                stacklevel=4,
+            )
+
+
+class _Geometry:
+    """The scene's sizes, the body's mesh (scaled to fit in its smallest ellipsoid, its end
+    marked), the ellipsoid's sphere, the plane's first basis vector and the regime."""
+
+    def __init__(self, motion: _Motion, body: Body | None, settings: _Settings):
+        from polhode.analysis import analyze
+
+        energy, distance, normal = motion.energy, motion.distance, motion.normal
+        # Sizes: the largest semi-axis, the plane's reach, the scene's half-width.
+        self.semi = np.sqrt(2.0 * energy[:, None] / motion.moments[None, :])  # (M, 3)
+        largest = float(np.max(self.semi))
+        self.centres = distance[:, None] * normal
+        spread = float(np.max(np.linalg.norm(motion.omega_space - self.centres, axis=1)))
+        self.radius = max(1.15 * spread, 0.6 * largest)
+        self.half = half = 1.08 * max(largest, float(np.max(np.sqrt(distance**2 + self.radius**2))))
+        self.l_length = 0.97 * half
+        self.head_length, self.head_radius = 0.07 * half, 0.025 * half
+
+        # The body about the fixed point, scaled to fit in the smallest ellipsoid of the frames.
+        fixed, tensor = settings.fixed, motion.tensor
+        origin_point = (
+            (body.center_of_mass if fixed is None else fixed) if body is not None else np.zeros(3)
+        )
+        vertices, faces, part_of, self.what = body_mesh(
+            body, tensor, origin_point, settings.resolution, settings.max_vertices
+        )
+        quadratic = np.einsum("vi,ij,vj->v", vertices, tensor, vertices)
+        reach = float(np.max(quadratic)) if vertices.size else 0.0
+        self.scale = 0.85 * float(np.sqrt(2.0 * np.min(energy) / reach)) if reach > 0 else 1.0
+        self.vertices, self.faces, part_of, capped, self.mark_point = marked_end(
+            vertices, faces, part_of, motion.direction
+        )
+        self.face_colors = np.where(
+            capped, MARK_COLOR, np.asarray(PART_COLORS)[part_of % len(PART_COLORS)]
+        )
+        self.sphere, self.sphere_faces = unit_sphere(settings.resolution)
+        self.e1, self.e2 = plane_basis(normal[0], motion.omega_space[0] - self.centres[0])
+
+        # The regime, from the motion at the first output time.
+        regime = analyze(tensor, motion.omega_body[0]).regime
+        if motion.moving:
+            self.condition = (
+                f"L not conserved (changes by {motion.change:.2g} of |L|): L and the plane move"
+            )
+        else:
+            self.condition = f"regime {regime}"
+
+    def title(self, motion: _Motion, unit: Units, k: int) -> str:
+        return f"Poinsot's construction ({self.condition})<br>t = {motion.t[k]:.4g} {unit.time}"
+
+
+def _frame_data(
+    motion: _Motion, geometry: _Geometry, store: np.dtype[Any], k: int
+) -> list[dict[str, NDArray[Any]]]:
+    """x, y, z of every trace (TRACES' order) at output time index k."""
 
     def xyz(points: Array) -> dict[str, NDArray[Any]]:
         points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        return {"x": cast(points[:, 0]), "y": cast(points[:, 1]), "z": cast(points[:, 2])}
+        return {
+            axis: np.ascontiguousarray(points[:, a], dtype=store) for a, axis in enumerate("xyz")
+        }
 
-    def frame_data(k: int) -> list[dict[str, Any]]:
-        """x, y, z of every trace (TRACES' order) at output time index k."""
-        r = rotations[k]
-        ellipsoid_body = (sphere * semi[k]) @ axes.T
-        e1k, e2k = plane_basis(normal[k], e1)
-        shown = curve[curve <= k]
-        omega_tip = omega_space[k]
-        l_tip = l_length * normal[k]
-        data = [
-            xyz(scale * vertices @ r.T),
-            xyz(scale * (r @ mark_point)),
-        ]
-        for a in range(3):
-            tip = semi[k, a] * (r @ axes[:, a])
-            data.append(xyz(np.stack([-tip, tip])))
-        data += [
-            xyz(ellipsoid_body @ r.T),
-            xyz(omega_body[shown] @ r.T),
-            xyz(plane_disc(distance[k] * normal[k], e1k, e2k, radius)),
-            xyz(omega_space[shown]),
-            xyz(np.stack([np.zeros(3), l_tip - head_length * normal[k]])),
-            xyz(arrow_head(l_tip, normal[k], head_length, head_radius)),
-            xyz(
-                np.stack(
-                    [np.zeros(3), omega_tip - head_length * omega_tip / np.linalg.norm(omega_tip)]
-                )
-            ),
-            xyz(arrow_head(omega_tip, omega_tip, head_length, head_radius)),
-            xyz(omega_tip),
-        ]
-        return data
+    g = geometry
+    r = motion.rotations[k]
+    normal = motion.normal[k]
+    ellipsoid_body = (g.sphere * g.semi[k]) @ motion.axes.T
+    e1k, e2k = plane_basis(normal, g.e1)
+    shown = motion.curve[motion.curve <= k]
+    omega_tip = motion.omega_space[k]
+    l_tip = g.l_length * normal
+    data = [
+        xyz(g.scale * g.vertices @ r.T),
+        xyz(g.scale * (r @ g.mark_point)),
+    ]
+    for a in range(3):
+        tip = g.semi[k, a] * (r @ motion.axes[:, a])
+        data.append(xyz(np.stack([-tip, tip])))
+    data += [
+        xyz(ellipsoid_body @ r.T),
+        xyz(motion.omega_body[shown] @ r.T),
+        xyz(plane_disc(motion.distance[k] * normal, e1k, e2k, g.radius)),
+        xyz(motion.omega_space[shown]),
+        xyz(np.stack([np.zeros(3), l_tip - g.head_length * normal])),
+        xyz(arrow_head(l_tip, normal, g.head_length, g.head_radius)),
+        xyz(
+            np.stack(
+                [np.zeros(3), omega_tip - g.head_length * omega_tip / np.linalg.norm(omega_tip)]
+            )
+        ),
+        xyz(arrow_head(omega_tip, omega_tip, g.head_length, g.head_radius)),
+        xyz(omega_tip),
+    ]
+    return data
 
-    def title(k: int) -> str:
-        return f"Poinsot's construction ({condition})<br>t = {t[k]:.4g} {unit['time']}"
 
-    first = frame_data(int(indices[0]))
-    plane_faces = fan_faces(48)
-    cone_triangles = arrow_cone_faces()
+def _traces(
+    motion: _Motion, geometry: _Geometry, body: Body | None, settings: _Settings
+) -> list[Any]:
+    """The traces of the first frame, in TRACES' order."""
+    import plotly.graph_objects as go
+
+    first = _frame_data(motion, geometry, settings.store, int(motion.indices[0]))
+    unit, rate, g = settings.unit, settings.unit.rate, geometry
     flat = {"flatshading": True, "hoverinfo": "skip"}
     if body is None:
-        body_name = f"inertia box of the moments ({scale:.3g} {rate} per {unit['length']})"
+        body_name = f"inertia box of the moments ({g.scale:.3g} {rate} per {unit.length})"
     else:
-        body_name = f"{what} ({scale:.3g} {rate} per {unit['length']})"
+        body_name = f"{g.what} ({g.scale:.3g} {rate} per {unit.length})"
     traces: list[Any] = [
         go.Mesh3d(
             **first[0],
-            i=faces[:, 0],
-            j=faces[:, 1],
-            k=faces[:, 2],
-            facecolor=face_colors,
+            i=g.faces[:, 0],
+            j=g.faces[:, 1],
+            k=g.faces[:, 2],
+            facecolor=g.face_colors,
             name=body_name,
             showlegend=True,
             uid="body",
@@ -376,8 +483,8 @@ def scene(
             mode="markers",
             marker={"size": 9, "color": MARK_COLOR, "line": {"color": "black", "width": 1}},
             name=(
-                f"marked end: +I{mark + 1} axis (toward L at t = {t[indices[0]]:.3g} "
-                f"{unit['time']})"
+                f"marked end: +I{motion.mark + 1} axis (toward L at t = "
+                f"{motion.t[motion.indices[0]]:.3g} {unit.time})"
             ),
             uid="mark",
             hoverinfo="skip",
@@ -394,7 +501,22 @@ def scene(
                 hoverinfo="skip",
             )
         )
-    traces += [
+    return traces + _construction_traces(first, motion, geometry, settings)
+
+
+def _construction_traces(
+    first: list[dict[str, NDArray[Any]]], motion: _Motion, geometry: _Geometry, settings: _Settings
+) -> list[Any]:
+    """The traces after the body and its axes: the ellipsoid, the polhode, the plane, the
+    herpolhode, L and omega with their heads, the contact point."""
+    import plotly.graph_objects as go
+
+    unit, rate = settings.unit, settings.unit.rate
+    flat = {"flatshading": True, "hoverinfo": "skip"}
+    sphere_faces = geometry.sphere_faces
+    plane_faces = fan_faces(48)
+    cone_triangles = arrow_cone_faces()
+    return [
         go.Mesh3d(
             **first[5],
             i=sphere_faces[:, 0],
@@ -440,8 +562,8 @@ def scene(
             mode="lines",
             line={"color": "#9467bd", "width": 6},
             name=(
-                f"L, {'moving' if moving else 'fixed'} (|L| = {size_l[indices[0]]:.4g} "
-                f"{unit['mass']} {unit['length']}^2/{unit['time']}; its direction)"
+                f"L, {'moving' if motion.moving else 'fixed'} (|L| = "
+                f"{motion.size_l[motion.indices[0]]:.4g} {unit.momentum('^2')}; its direction)"
             ),
             legendgroup="L",
             uid="L",
@@ -488,25 +610,37 @@ def scene(
         ),
     ]
 
-    names = [str(k) for k in range(len(indices))]
+
+def _frames(motion: _Motion, geometry: _Geometry, settings: _Settings) -> list[Any]:
+    """One plotly frame per frame index, named "0", "1"..: every trace's points and the
+    title."""
+    import plotly.graph_objects as go
+
     every_trace = list(range(len(TRACES)))
-    animation_frames = [
+    meshes = ("body", "ellipsoid", "plane", "L_head", "omega_head")
+    return [
         go.Frame(
-            name=name,
+            name=str(f),
             data=[
-                go.Mesh3d(**d)
-                if TRACES[n] in ("body", "ellipsoid", "plane", "L_head", "omega_head")
-                else go.Scatter3d(**d)
-                for n, d in enumerate(frame_data(int(k)))
+                go.Mesh3d(**d) if TRACES[n] in meshes else go.Scatter3d(**d)
+                for n, d in enumerate(_frame_data(motion, geometry, settings.store, int(k)))
             ],
             traces=every_trace,
-            layout={"title": {"text": title(int(k))}},
+            layout={"title": {"text": geometry.title(motion, settings.unit, int(k))}},
         )
-        for name, k in zip(names, indices, strict=True)
+        for f, k in enumerate(motion.indices)
     ]
 
+
+def _layout(motion: _Motion, geometry: _Geometry, settings: _Settings) -> Any:
+    """The layout: the title, the legend, the scene's axes and camera (looking across L, up
+    along it), the Play and Pause buttons, the time slider, and the meta data."""
+    import plotly.graph_objects as go
+
+    unit, rate, half = settings.unit, settings.unit.rate, geometry.half
+    names = [str(f) for f in range(len(motion.indices))]
     play = {
-        "frame": {"duration": frame_duration, "redraw": True},
+        "frame": {"duration": settings.frame_duration, "redraw": True},
         "transition": {"duration": 0},
         "fromcurrent": True,
         "mode": "immediate",
@@ -516,7 +650,8 @@ def scene(
         "transition": {"duration": 0},
         "mode": "immediate",
     }
-    eye_direction = 0.93 * (0.8 * e1 + 0.6 * e2) + 0.45 * normal[0]
+    normal = motion.normal[0]
+    eye_direction = 0.93 * (0.8 * geometry.e1 + 0.6 * geometry.e2) + 0.45 * normal
     eye = 2.25 * eye_direction / np.linalg.norm(eye_direction)
     axis_style = {
         "range": [-half, half],
@@ -526,8 +661,12 @@ def scene(
         "gridcolor": "#dddddd",
         "zerolinecolor": "#bbbbbb",
     }
-    layout = go.Layout(
-        title={"text": title(int(indices[0])), "x": 0.5, "xanchor": "center"},
+    return go.Layout(
+        title={
+            "text": geometry.title(motion, unit, int(motion.indices[0])),
+            "x": 0.5,
+            "xanchor": "center",
+        },
         height=720,
         margin={"l": 10, "r": 10, "t": 70, "b": 80},
         legend={"x": 0.0, "y": 0.97, "yanchor": "top", "font": {"size": 11}},
@@ -538,7 +677,7 @@ def scene(
             "zaxis": {**axis_style, "title": {"text": f"z, space ({rate})"}},
             "aspectmode": "cube",
             "camera": {
-                "up": dict(zip("xyz", normal[0].tolist(), strict=True)),
+                "up": dict(zip("xyz", normal.tolist(), strict=True)),
                 "eye": dict(zip("xyz", eye.tolist(), strict=True)),
                 "center": {"x": 0.0, "y": 0.0, "z": 0.0},
             },
@@ -568,21 +707,17 @@ def scene(
                 "y": 0.0,
                 "yanchor": "top",
                 "pad": {"t": 10},
-                "currentvalue": {"prefix": "t = ", "suffix": f" {unit['time']}", "visible": True},
+                "currentvalue": {"prefix": "t = ", "suffix": f" {unit.time}", "visible": True},
                 "steps": [
-                    {"label": f"{t[k]:.3g}", "method": "animate", "args": [[name], step]}
-                    for name, k in zip(names, indices, strict=True)
+                    {"label": f"{motion.t[k]:.3g}", "method": "animate", "args": [[name], step]}
+                    for name, k in zip(names, motion.indices, strict=True)
                 ],
             }
         ],
         meta={
-            "frame_indices": indices.tolist(),
-            "body_scale": scale,
-            "mark": mark,
-            "mark_direction": direction.tolist(),
+            "frame_indices": motion.indices.tolist(),
+            "body_scale": geometry.scale,
+            "mark": motion.mark,
+            "mark_direction": motion.direction.tolist(),
         },
     )
-    figure = go.Figure(data=traces, layout=layout, frames=animation_frames)
-    if path is not None:
-        figure.write_html(path, include_plotlyjs=True, auto_play=False)
-    return figure
