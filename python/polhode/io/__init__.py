@@ -36,12 +36,23 @@ Examples
 """
 
 from polhode import _meshes
+from polhode.io._robot import RobotBodies
 from polhode.io.audit import Finding, audit
 from polhode.io.mesh import read_mesh
-from polhode.io.mjcf import read_mjcf
+from polhode.io.mjcf import LegacyMeshInertia, legacy_mesh_inertia, read_mjcf
 from polhode.io.urdf import read_urdf
 
-__all__ = ["Finding", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_urdf"]
+__all__ = [
+    "Finding",
+    "LegacyMeshInertia",
+    "MESH_FORMATS",
+    "RobotBodies",
+    "audit",
+    "legacy_mesh_inertia",
+    "read_mesh",
+    "read_mjcf",
+    "read_urdf",
+]
 
 #: The mesh formats :func:`read_mesh` reads (by the file's extension), all through trimesh.
 MESH_FORMATS = _meshes.MESH_FORMATS
