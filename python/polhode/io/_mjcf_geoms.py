@@ -311,6 +311,12 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
             size, offset = _fitted(kind, mesh, float(geom.fitscale), meshes.spec.compiler.fitaabb)
             center = mesh.center + mesh.axes @ offset
             turn = mesh.axes
+            count = _SIZES[kind]
+            if np.any(~(size[:count] > 0)):
+                bad = int(np.argmax(~(size[:count] > 0)))
+                raise GeomError(
+                    "mesh", f"fitted to the mesh, its size {bad} is {size[bad]:g}, not positive."
+                )
         elif kind == "hfield":
             field = meshes.spec.hfield(geom.hfieldname)
             if field is None:

@@ -115,7 +115,7 @@ def _read_stl(path: str, data: bytes) -> tuple[NDArray[np.float64], NDArray[np.i
     """Binary STL, as MuJoCo's stl_decoder: 1 to 200000 triangles, the size exact (an ASCII
     STL is refused), vertices shared by their bit pattern."""
     if len(data) < 84:
-        raise MeshError(f"invalid header in STL file {path!r}.")
+        raise MeshError(f"invalid header in STL file {path!r} (an ASCII STL file?).")
     (count,) = struct.unpack_from("<i", data, 80)
     if not 1 <= count <= 200000:
         raise MeshError(

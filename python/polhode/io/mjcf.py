@@ -169,6 +169,7 @@ def _result(path: str, records: list[CompiledBody], strict: bool) -> RobotBodies
     """The compiled bodies as a RobotBodies; the warning (or, strict, the error) for the
     bodies left out and the values MuJoCo changes."""
     names = {r.index: r.name for r in records}
+    into = {r.index: r.merged_into for r in records}
     out = RobotBodies(path=path)
     refused: dict[str, tuple[str, str]] = {}
     clamped: dict[str, tuple[str, str]] = {}
@@ -176,7 +177,10 @@ def _result(path: str, records: list[CompiledBody], strict: bool) -> RobotBodies
         if r.notes:
             out.notes[r.name] = list(r.notes)
         if r.merged_into is not None:
-            out.merged[r.name] = names.get(r.merged_into, "world")
+            target = r.merged_into
+            while into.get(target) is not None:  # merged into a body merged in turn
+                target = into[target]  # type: ignore[assignment]
+            out.merged[r.name] = names.get(target, "world")
             continue
         if r.problem is not None:
             refused[r.name] = r.problem
