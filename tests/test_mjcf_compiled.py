@@ -614,3 +614,29 @@ def test_corpus_files_merged_as_mujocos_fusestatic(item):
 def test_the_corpus_is_there():
     found = corpus()
     assert len(found.get("gymnasium", [])) >= 10 and len(found.get("mujoco testdata", [])) >= 1
+
+
+def test_command_line_reads_as_mujoco_and_as_written_with_a_density(tmp_path, capsys):
+    import json
+
+    from polhode.cli import main
+
+    inner = hinge(
+        "arm",
+        '<inertial pos="0 0 0.1" mass="2" diaginertia="0.02 0.02 0.01"/>'
+        '<geom type="box" size="0.05 0.05 0.2" pos="0 0 0.2" density="500"/>',
+    )
+    inner += hinge("ball", '<geom type="sphere" size="0.1" density="300"/>', pos="1 0 0")
+    path = tmp_path / "m.xml"
+    path.write_text(model(inner, 'inertiafromgeom="true"'))
+
+    def links(*options):
+        assert main(["inertia", str(path), "--json", *options]) == 0
+        return json.loads(capsys.readouterr().out)["links"]
+
+    compiled = links()
+    assert compiled["arm"]["mass"] == pytest.approx(2.0, rel=1e-15)  # the box: 500 x 0.004
+    assert compiled["arm"]["center_of_mass"] == [0.0, 0.0, 0.2]
+    written = links("--density", "1000")  # as written: the <inertial>, the ball at 1000
+    assert written["arm"]["center_of_mass"] == [0.0, 0.0, 0.1]
+    assert written["ball"]["mass"] == pytest.approx(4000 / 3 * np.pi * 1e-3, rel=1e-15)

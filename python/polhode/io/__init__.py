@@ -2,9 +2,12 @@
 
 - :func:`read_mesh` reads STL (ascii and binary), OBJ, PLY, OFF and glTF/GLB with trimesh's
   loaders and returns the meshes of the file as bodies (``Body.from_file`` is their composite).
-- :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (MuJoCo's ``MjSpec``: the values
-  as written, before MuJoCo's compiler changes or rejects them) return one :class:`Body` per link
-  or body, in that link's own frame.
+- :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (parsed by MuJoCo's ``MjSpec``,
+  each body as MuJoCo's compiler gives it; ``as_written=True`` for the file's own values) return
+  one :class:`Body` per link or body, in that link's own frame, in a :class:`RobotBodies` that
+  also names the frames (bodies of no mass) and the bodies left out;
+  :func:`legacy_mesh_inertia` says by how much MuJoCo's default ``legacy`` mesh inertia
+  differs from the exact one, body by body.
 - :func:`audit` checks every link's declared inertial and its geometry, and returns a
   :class:`Finding` for each link (``polhode audit FILE`` prints them).
 
