@@ -175,7 +175,10 @@ class Meshes:
         if mesh.plugin.active:
             raise MeshError(f"mesh {name!r} is made by a plugin, which polhode does not run.")
         if mesh.file:
-            vertices, faces = read_mujoco_mesh(self.path(mesh), str(mesh.content_type or ""))
+            try:
+                vertices, faces = read_mujoco_mesh(self.path(mesh), str(mesh.content_type or ""))
+            except MeshError as error:
+                raise MeshError(f"mesh {name!r}: {error}") from None
         else:
             vertices = np.asarray(mesh.uservert, dtype=np.float32).astype(float).reshape(-1, 3)
             faces = np.asarray(mesh.userface, dtype=np.int64).reshape(-1, 3)

@@ -129,8 +129,8 @@ def _read_stl(path: str, data: bytes) -> tuple[NDArray[np.float64], NDArray[np.i
     if np.any(np.abs(corners) > 2.0**30):
         raise MeshError(f"a vertex of STL file {path!r} exceeds MuJoCo's bounds (2^30).")
     # Vertices shared by bit pattern (0.0 and -0.0 are two), in order of first appearance.
-    keys = corners.view("<u4")
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    keys = np.ascontiguousarray(corners).view(np.dtype((np.void, 12))).reshape(-1)
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
     order = np.argsort(first)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
