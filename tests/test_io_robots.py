@@ -317,7 +317,7 @@ def test_mjcf_density_mass_and_inertiafromgeom(tmp_path):
     assert bodies["ball"].mass / bodies["brick"].mass == pytest.approx(v_ball / v_brick)
     path.write_text(xml.format(flag="false"))  # MuJoCo infers nothing: massless bodies
     bodies = ph.io.read_mjcf(path)
-    assert list(bodies) == ["declared"] and bodies.frames == ["ball", "brick"]
+    assert list(bodies) == ["declared"] and list(bodies.frames) == ["ball", "brick"]
     assert list(ph.io.read_mjcf(path, as_written=True)) == ["declared"]
 
 
@@ -720,6 +720,7 @@ def test_bad_geometry_sizes_are_named(text, suffix, field, fragment):
     a numpy warning and a mass of inf."""
     path = _write(text, suffix)
     if suffix == ".xml":
+
         def read(path, density):
             return ph.io.read_mjcf(path, density=density, as_written=True)
     else:
@@ -928,7 +929,7 @@ def test_bodies_mujoco_refuses_are_left_out_and_named(tmp_path, body, name, fiel
         mujoco.MjModel.from_xml_path(str(path))
     with pytest.warns(ph.RobotFileWarning) as caught:
         bodies = ph.io.read_mjcf(path)
-    assert list(bodies) == ["ok"] and bodies.frames == []
+    assert list(bodies) == ["ok"] and bodies.frames == {}
     assert list(bodies.left_out) == [name] and bodies.left_out[name].startswith(field)
     assert fragment in bodies.left_out[name]
     warning = caught[0].message

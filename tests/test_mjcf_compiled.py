@@ -224,7 +224,7 @@ def test_a_geom_mass_on_no_volume_is_dropped_as_mujoco_does(tmp_path):
     inner = hinge("b", '<geom name="tiny" size="1e-5" mass="1"/><geom size="0.1" mass="1"/>')
     inner += '<body name="floor"><geom type="plane" size="1 1 .1" mass="3"/></body>'
     bodies, _ = check(tmp_path, model(inner))
-    assert bodies["b"].mass == 1.0 and bodies.frames == ["floor"]
+    assert bodies["b"].mass == 1.0 and list(bodies.frames) == ["floor"]
     assert any("geom 'tiny'" in note and "dropped" in note for note in bodies.notes["b"])
     # radius 2e-5: 3.4e-14, above: both count.
     bodies, _ = check(tmp_path, model(inner.replace("1e-5", "2e-5")))
@@ -264,7 +264,7 @@ def test_negative_values_become_zero_as_mujoco_bounds_them(tmp_path):
     inner = '<body name="n"><inertial pos="0 0 0" mass="-1" diaginertia="-1 1 1"/></body>'
     inner += hinge("ok", '<geom size=".1"/>')
     bodies, caught = check(tmp_path, model(inner))
-    assert bodies.frames == ["n"] and "negative mass" in bodies.notes["n"][0]
+    assert list(bodies.frames) == ["n"] and "negative mass" in bodies.notes["n"][0]
     assert len(caught) == 1 and isinstance(caught[0], ph.RobotFileWarning)
     with pytest.raises(FileFormatError) as error:
         ph.io.read_mjcf(tmp_path / "model.xml", strict=True)
@@ -489,7 +489,10 @@ def test_moving_bodies_without_mass(tmp_path):
         mujoco.MjModel.from_xml_path(str(path))
     bodies, caught = read(path)
     assert list(bodies) == ["payload", "child"]
-    assert bodies.frames == ["carried", "static"]
+    assert bodies.frames == {
+        "carried": "mass 0: a moving body whose mass is on the bodies fixed to it",
+        "static": "mass 0: a body without joints",
+    }
     assert sorted(bodies.left_out) == ["alone", "moving_child_only", "point", "thin"]
     assert all("mjMINVAL" in why for why in bodies.left_out.values())
     [warning] = caught
@@ -549,7 +552,7 @@ def test_fusestatic_as_mujoco(tmp_path, how):
     assert list(bodies) == ["arm", "kept", "sensed", "forearm"]
     assert bodies.merged == {"base": "world", "camera": "arm", "lens": "arm", "tool": "arm",
                              "tip": "arm", "wrist": "forearm"}  # fmt: skip
-    assert bodies.frames == []
+    assert bodies.frames == {}
 
 
 def test_merge_fixed_false_overrides_the_file(tmp_path):

@@ -4,7 +4,7 @@
   loaders and returns the meshes of the file as bodies (``Body.from_file`` is their composite).
 - :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (parsed by MuJoCo's ``MjSpec``,
   each body as MuJoCo's compiler gives it; ``as_written=True`` for the file's own values) return
-  one :class:`Body` per link or body, in that link's own frame, in a :class:`RobotBodies` that
+  one :class:`Body` per link or body, in that link's own frame, in a :class:`Links` that
   also names the frames (bodies of no mass) and the bodies left out;
   :func:`legacy_mesh_inertia` says by how much MuJoCo's default ``legacy`` mesh inertia
   differs from the exact one, body by body.
@@ -39,7 +39,7 @@ Examples
 """
 
 from polhode import _meshes
-from polhode.io._robot import RobotBodies
+from polhode.io._robot import Links
 from polhode.io.audit import Finding, audit
 from polhode.io.mesh import read_mesh
 from polhode.io.mjcf import LegacyMeshInertia, legacy_mesh_inertia, read_mjcf
@@ -48,8 +48,8 @@ from polhode.io.urdf import read_urdf
 __all__ = [
     "Finding",
     "LegacyMeshInertia",
+    "Links",
     "MESH_FORMATS",
-    "RobotBodies",
     "audit",
     "legacy_mesh_inertia",
     "read_mesh",

@@ -1,67 +1,66 @@
-"""What a robot reader returns: the bodies by name, and what it did not return as a body."""
+"""What the robot readers return: the links (URDF) or bodies (MJCF) read as bodies, and what
+was not read as a body."""
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Iterable, Mapping
 
 from polhode.bodies import Body
 
-__all__ = ["RobotBodies"]
+__all__ = ["Links"]
 
 
-class RobotBodies(dict[str, Body]):
-    """The bodies of a robot description by name, each in its own frame: a ``dict``
-    ``{name: Body}`` in the file's order, with what is not in it as a body.
+class Links(dict[str, Body]):
+    """What :func:`polhode.io.read_urdf` and :func:`polhode.io.read_mjcf` return:
+    ``{name: Body}``, each in its link's (body's) own frame, a dict in the file's order, with
+    what was not read as a body.
 
     Attributes
     ----------
     path : str
         The file.
-    frames : list of str
-        The bodies of no mass, in the file's order: frames (a static body MuJoCo compiles
-        with mass 0, a moving body whose mass is in a body fixed to it). A :class:`Body` has
-        a mass, so these are named here, not returned.
-    left_out : dict of str to str
-        The bodies left out because the simulator refuses them, each with the reason (the
-        reader's :class:`polhode.RobotFileWarning` names them too).
-    merged : dict of str to str
-        With ``merge_fixed``: each body merged into another, and the body it went into
-        (``"world"`` when its mass went to the ground, as MuJoCo drops it).
-    notes : dict of str to list of str
-        What the simulator does to a body that a reader of the file should know (a geom's
-        mass dropped, a negative mass raised to 0, a mesh that is not closed).
+    frames : dict[str, str]
+        The links of no mass that a simulator takes as frames, ``{name: why}``: a static
+        body MuJoCo compiles with mass 0, a moving one whose mass is on the bodies fixed to
+        it. A :class:`polhode.Body` has a mass, so these are named here, not returned.
+    left_out : dict[str, str]
+        The links left out because the simulator refuses them, and why (the field and the
+        check that failed). The :class:`polhode.errors.RobotFileWarning` of the call names the
+        same links.
+    merged : dict[str, str]
+        With ``merge_fixed``: ``{name: the body it was fused into}`` (``"world"`` for an MJCF
+        body whose mass MuJoCo drops with the world's).
+    notes : dict[str, list[str]]
+        What the simulator does to a link that a reader of the file should know: a geom's
+        mass dropped, a negative mass raised to 0, a mesh that is not closed.
 
     Examples
     --------
-    >>> from polhode.io import RobotBodies
-    >>> bodies = RobotBodies(path="robot.xml", frames=["world_mount"])
-    >>> dict(bodies), bodies.frames
-    ({}, ['world_mount'])
+    >>> from polhode.io import Links
+    >>> links = Links(path="robot.xml", frames={"mount": "mass 0: a static body"})
+    >>> dict(links), links.frames, links.left_out
+    ({}, {'mount': 'mass 0: a static body'}, {})
     """
+
+    path: str
+    frames: dict[str, str]
+    left_out: dict[str, str]
+    merged: dict[str, str]
+    notes: dict[str, list[str]]
 
     def __init__(
         self,
-        bodies: Any = (),
+        bodies: Mapping[str, Body] | Iterable[tuple[str, Body]] = (),
         *,
         path: str = "",
-        frames: Any = (),
-        left_out: Any = None,
-        merged: Any = None,
-        notes: Any = None,
+        frames: Mapping[str, str] | None = None,
+        left_out: Mapping[str, str] | None = None,
+        merged: Mapping[str, str] | None = None,
+        notes: Mapping[str, Iterable[str]] | None = None,
     ):
         super().__init__(bodies)
         self.path = path
-        self.frames: list[str] = list(frames)
-        self.left_out: dict[str, str] = dict(left_out or {})
-        self.merged: dict[str, str] = dict(merged or {})
-        self.notes: dict[str, list[str]] = {k: list(v) for k, v in (notes or {}).items()}
-
-    def __repr__(self) -> str:
-        extra = ""
-        if self.frames:
-            extra += f", frames={self.frames!r}"
-        if self.left_out:
-            extra += f", left_out={self.left_out!r}"
-        if self.merged:
-            extra += f", merged={self.merged!r}"
-        return f"RobotBodies({dict.__repr__(self)}{extra})"
+        self.frames = dict(frames or {})
+        self.left_out = dict(left_out or {})
+        self.merged = dict(merged or {})
+        self.notes = {k: list(v) for k, v in (notes or {}).items()}

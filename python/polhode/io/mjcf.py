@@ -15,7 +15,7 @@ from polhode.bodies import Body
 from polhode.errors import ArgumentError, FileFormatError, PolhodeError, RobotFileWarning
 from polhode.io._mjcf_compile import CompiledBody, body_names, compile_bodies
 from polhode.io._mjcf_written import mjcf_links, mjcf_spec, read_as_written
-from polhode.io._robot import RobotBodies
+from polhode.io._robot import Links
 
 __all__ = ["LegacyMeshInertia", "legacy_mesh_inertia", "mjcf_links", "read_mjcf"]
 
@@ -28,7 +28,7 @@ def read_mjcf(
     strict: bool = False,
     density: float | None = None,
     mass: float | None = None,
-) -> RobotBodies:
+) -> Links:
     """The bodies of a MuJoCo MJCF file, each in its own frame, with the mass, centre of mass
     and inertia MuJoCo's compiler gives them.
 
@@ -54,7 +54,7 @@ def read_mjcf(
     - ``boundmass`` and ``boundinertia`` (they also turn a negative mass or moment into 0),
       ``balanceinertia``, and ``settotalmass`` last, static bodies too.
 
-    A body of no mass is not a :class:`Body`: it is listed in ``frames`` of the result. A body
+    A body of no mass is not a :class:`Body`: it is named in ``frames`` of the result. A body
     MuJoCo refuses (a moving body whose mass or a principal moment is below 1e-15, a tensor
     that breaks the triangle inequality, a geom or mesh it cannot compile) is left out and
     named, with the reason, in one :class:`polhode.RobotFileWarning` and in ``left_out``;
@@ -93,7 +93,7 @@ def read_mjcf(
 
     Returns
     -------
-    RobotBodies
+    polhode.io.Links
         ``{name: Body}`` by body name in the file's order (an unnamed body as ``"body K"``,
         K its MuJoCo body id without fusing, or ``"body K (unnamed)"`` if a body is named
         ``"body K"``), the world left out; with ``frames``, ``left_out``, ``merged`` and
@@ -131,7 +131,7 @@ def read_mjcf(
     >>> with open(path, "w") as handle:
     ...     _ = handle.write(xml)
     >>> bodies = ph.io.read_mjcf(path)       # as MuJoCo simulates it: the box, 500 x 0.004
-    >>> round(bodies["arm"].mass, 12), bodies["arm"].center_of_mass.tolist(), bodies.frames
+    >>> round(bodies["arm"].mass, 12), bodies["arm"].center_of_mass.tolist(), list(bodies.frames)
     (2.0, [0.0, 0.0, 0.2], ['mount'])
     >>> written = ph.io.read_mjcf(path, as_written=True)   # the <inertial> as written
     >>> written["arm"].center_of_mass.tolist()
@@ -151,8 +151,10 @@ def read_mjcf(
             )
         rho, total = density_or_mass(density, mass, required=False)
         bodies = read_as_written(path, rho, total)
-        frames = [n for n in body_names(mjcf_spec(path))[1:] if n not in bodies]
-        return RobotBodies(bodies, path=path, frames=frames)
+        frames = {
+            n: "no mass as written" for n in body_names(mjcf_spec(path))[1:] if n not in bodies
+        }
+        return Links(bodies, path=path, frames=frames)
     if density is not None or mass is not None:
         raise ArgumentError(
             "density and mass replace the masses the file gives its geoms, which MuJoCo "
@@ -165,12 +167,12 @@ def read_mjcf(
     return _result(path, records, strict)
 
 
-def _result(path: str, records: list[CompiledBody], strict: bool) -> RobotBodies:
-    """The compiled bodies as a RobotBodies; the warning (or, strict, the error) for the
+def _result(path: str, records: list[CompiledBody], strict: bool) -> Links:
+    """The compiled bodies as Links; the warning (or, strict, the error) for the
     bodies left out and the values MuJoCo changes."""
     names = {r.index: r.name for r in records}
     into = {r.index: r.merged_into for r in records}
-    out = RobotBodies(path=path)
+    out = Links(path=path)
     refused: dict[str, tuple[str, str]] = {}
     clamped: dict[str, tuple[str, str]] = {}
     for r in records:
@@ -195,7 +197,11 @@ def _result(path: str, records: list[CompiledBody], strict: bool) -> RobotBodies
             refused[r.name] = ("inertial", error.message)
             continue
         if body is None:
-            out.frames.append(r.name)
+            out.frames[r.name] = (
+                "mass 0: a moving body whose mass is on the bodies fixed to it"
+                if r.moving
+                else "mass 0: a body without joints"
+            )
         else:
             out[r.name] = body
     if strict:
