@@ -392,6 +392,26 @@ def test_mesh_files_stl_obj_msh(tmp_path):
     assert abs(bodies["odd.obj_exact"].mass / exact64 - 1) > 1e-10
 
 
+def test_convex_hull_with_maxhullvert_and_scaled_shells(tmp_path):
+    # A hull of at most 12 vertices (Qhull's "Q9 TA8", as MuJoCo asks it); shells and mesh
+    # shells in a scaling frame (a density per area goes as massscale / scale^2); a mirrored
+    # mesh with a mass in a scaling frame.
+    cloud = np.random.default_rng(1).normal(size=(200, 3)) * [1, 2, 3]
+    vertices = " ".join(repr(float(x)) for x in cloud.ravel())
+    assets = f'<mesh name="c" vertex="{vertices}" maxhullvert="12" inertia="convex"/>'
+    assets += inline_mesh("shell", *U_PRISM, 'inertia="shell"')
+    assets += inline_mesh("mirror", *U_PRISM, 'scale="1 -1 1"')
+    inner = hinge("hull", '<geom type="mesh" mesh="c"/>') + (
+        '<frame scale="2" massscale="5">'
+        + hinge("shells", '<geom type="capsule" size=".1 .2" shellinertia="true"/>'
+                          '<geom type="box" size=".1 .2 .3" shellinertia="true" pos="1 0 0"/>'
+                          '<geom type="mesh" mesh="shell" pos="0 2 0"/>')
+        + hinge("mirror", '<geom type="mesh" mesh="mirror" mass="3" pos="1 0 0"/>')
+        + "</frame>"
+    )  # fmt: skip
+    check(tmp_path, model(inner, assets=assets))
+
+
 def test_ascii_stl_is_left_out_as_mujoco_refuses_it(tmp_path):
     facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
     (tmp_path / "a.stl").write_text(f"solid a\n{facet}endloop\nendfacet\nendsolid a\n")
@@ -553,6 +573,41 @@ def test_fusestatic_as_mujoco(tmp_path, how):
     assert bodies.merged == {"base": "world", "camera": "arm", "lens": "arm", "tool": "arm",
                              "tip": "arm", "wrist": "forearm"}  # fmt: skip
     assert bodies.frames == {}
+
+
+def _fused(compiler, inner):
+    return (
+        f'<mujoco><compiler fusestatic="true" {compiler}/><worldbody>{inner}</worldbody></mujoco>'
+    )
+
+
+FUSING = {
+    # inertiafromgeom="true": MuJoCo infers the fused body again from all the geoms; the
+    # <inertial>s of the bodies fused into it are lost, unless no geom at all counts.
+    "ifg-true-child-inertial": _fused('inertiafromgeom="true"', hinge(
+        "p", '<geom size=".1"/><body name="c" pos="1 0 0"><inertial pos="0 0 0" mass="2" '
+             'diaginertia="1 1 1"/></body>')),
+    "ifg-true-child-geom-out-of-range": _fused('inertiafromgeom="true" inertiagrouprange="0 2"',
+        hinge("p", '<geom size=".1"/><body name="c" pos="1 0 0"><inertial pos="0 0 0" '
+                   'mass="2" diaginertia="1 1 1"/><geom size=".3" group="4"/></body>')),
+    "ifg-true-no-geoms": _fused('inertiafromgeom="true"', hinge(
+        "p", '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/><body name="c" pos="1 0 0">'
+             '<inertial pos="0 0 0" mass="2" diaginertia="1 1 1"/></body>')),
+    "ifg-true-parent-inertial": _fused('inertiafromgeom="true"', hinge(
+        "p", '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/><body name="c" pos="1 0 0">'
+             '<geom size=".1"/></body>')),
+    # MuJoCo does not fuse a body whose bounds changed its inertia with inertiafromgeom="true",
+    # nor one with a gravcomp of its own.
+    "ifg-true-bounds": _fused('inertiafromgeom="true" boundmass="0.5"', hinge(
+        "p", '<geom size=".1"/><body name="c" pos="1 0 0"><geom size=".01"/></body>')),
+    "gravcomp": _fused("", hinge(
+        "p", '<geom size=".1"/><body name="c" pos="1 0 0" gravcomp="1"><geom size=".1"/></body>')),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("xml", FUSING.values(), ids=FUSING.keys())
+def test_fusing_follows_mujocos_exceptions(tmp_path, xml):
+    check(tmp_path, xml)
 
 
 def test_merge_fixed_false_overrides_the_file(tmp_path):

@@ -74,6 +74,9 @@ class CompiledBody:
     legacy: tuple[str, ...] = ()
     notes: list[str] = field(default_factory=list)
     merged_into: int | None = None
+    geoms: Body | None = None  # its selected geoms' sum, in its frame
+    always: bool = False  # inertiafromgeom="true": its geoms replace its <inertial>
+    fused: bool = False  # bodies were fused into it
 
     def body(self) -> Body | None:
         """The Body, or None for a body of no mass."""
@@ -187,8 +190,10 @@ def _inertial(
             record.notes += [f"{label}: {note}" for note in share.notes]
             if share.body is not None and share.body.mass > EPS:
                 parts.append(share.body)
+        record.always = always
         if parts:
             total = sum(parts[1:], parts[0])
+            record.geoms = total
             moments, axes = _principal(total.inertia)
             inertial = (total.mass, total.center_of_mass, moments, axes, total.inertia)
         elif declared is None:
@@ -317,7 +322,11 @@ def _fuse(mujoco: Any, spec: Any, names: list[str], by_index: dict[int, Compiled
                 child.problem[0],
                 f"body {child.name!r}, merged into it: {child.problem[1]}",
             )
-        if child.mass > 0:
+        parent.fused = True
+        if child.geoms is not None:
+            moved_geoms = placed(child.geoms, child.rotation, child.offset)
+            parent.geoms = moved_geoms if parent.geoms is None else parent.geoms + moved_geoms
+        if child.mass > 0 and not parent.always:
             moved = placed(
                 Body.from_inertia(child.mass, child.tensor, child.center),
                 child.rotation,
@@ -329,6 +338,15 @@ def _fuse(mujoco: Any, spec: Any, names: list[str], by_index: dict[int, Compiled
             parent.center = moved.center_of_mass
             parent.tensor = moved.inertia
             parent.moments = np.linalg.eigvalsh(moved.inertia)
+    # With inertiafromgeom="true", MuJoCo infers the fused body's inertial again from all its
+    # geoms (its own and those fused into it), and the <inertial>s of the bodies fused into it
+    # are lost; with no geom at all, the body keeps its own.
+    for b in by_index.values():
+        if b.fused and b.always and b.geoms is not None and b.merged_into is None:
+            b.mass = b.geoms.mass
+            b.center = b.geoms.center_of_mass
+            b.tensor = b.geoms.inertia
+            b.moments = np.linalg.eigvalsh(b.tensor)
     # A merged body's own children now hang from the body it went into.
     for b in by_index.values():
         target = b.parent

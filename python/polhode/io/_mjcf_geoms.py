@@ -286,6 +286,7 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
     factor = outer.mass * inner_mass
     shell = geom.typeinertia == mujoco.mjtGeomInertia.mjINERTIA_SHELL
     mesh: MeshInertia | None = None
+    mesh_shell = False
     if geom.meshname and kind != "hfield":
         if not np.isnan(fromto[0]):
             raise GeomError("fromto", "fromto cannot be used with a mesh.")
@@ -293,6 +294,7 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
         mesh = meshes.get(geom.meshname, scale)
         if m is not None and meshes.mode(m) == "legacy" and not meshes.exact_legacy:
             legacy = (str(geom.meshname),)
+        mesh_shell = m is not None and meshes.mode(m) == "shell"
         notes += [f"mesh {geom.meshname!r}: {n}" for n in mesh.notes]
         if kind in ("mesh", "sdf") and shell:
             raise GeomError(
@@ -356,7 +358,10 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
             return GeomInertial(None, legacy, tuple(notes))
         if density < 0:
             raise GeomError("density", f"the density {density:g} is negative.")
-        mass = density * factor / scale**3 * measure
+        # A frame's scale turns a density per volume by m / s^3, one per area (a shell) by
+        # m / s^2: the mass is the same material's, times massscale.
+        surface = shell or (mesh is not None and kind in ("mesh", "sdf") and mesh_shell)
+        mass = density * factor / scale ** (2 if surface else 3) * measure
     if mass < 0:
         raise GeomError("mass", f"the mass {mass:g} is negative.")
     if not mass > EPS:
