@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode.bodies import Body
-from polhode.errors import FileFormatError
+from polhode.errors import FileFormatError, PolhodeError
 from polhode.io._links import placed, symmetric
 from polhode.io._mjcf_geoms import (
     EPS,
@@ -133,9 +133,23 @@ def compile_bodies(
         except GeomError as error:
             record.problem = (error.field, error.message)
             scales.setdefault(k, scales[parent])
+        except FileFormatError:
+            raise
+        except PolhodeError as error:  # a sum or placement beyond double precision
+            record.problem = ("inertial", error.message)
+            scales.setdefault(k, scales[parent])
     by_index = {b.index: b for b in out}
     if fuse:
-        _fuse(mujoco, spec, names, by_index)
+        try:
+            _fuse(mujoco, spec, names, by_index)
+        except ValueError as error:  # MuJoCo cannot fuse the model at all
+            if isinstance(error, PolhodeError):
+                raise
+            raise FileFormatError(
+                f"{path}: MuJoCo cannot fuse its static bodies: {str(error).strip()}",
+                path=path,
+                field="compiler.fusestatic",
+            ) from error
     _check_moving(by_index)
     total = float(spec.compiler.settotalmass)
     if total > 0:

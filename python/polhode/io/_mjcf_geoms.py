@@ -340,6 +340,10 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
         measure = _measure("box" if kind == "hfield" else kind, size, shell)
         unit = None
         unit_body = (kind, size, shell)
+    if not math.isfinite(measure):
+        raise GeomError(
+            "size", f"its {'area' if shell else 'volume'} is beyond double precision ({measure})."
+        )
     if not np.isnan(geom.mass):
         given = float(geom.mass) * factor
         if given == 0:
@@ -364,6 +368,8 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
         mass = density * factor / scale ** (2 if surface else 3) * measure
     if mass < 0:
         raise GeomError("mass", f"the mass {mass:g} is negative.")
+    if not math.isfinite(mass):
+        raise GeomError("density", f"its mass is beyond double precision ({mass}).")
     if not mass > EPS:
         return GeomInertial(None, legacy, tuple(notes))
     try:
@@ -376,11 +382,14 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
         raise GeomError("size", error.message) from None
     # The primitive about its centre -> the geom frame -> the body frame: the frames inside
     # the body scale the geom's position by theirs, and the body's own frames everything.
-    body = placed(body, turn, center)
     origin = outer.scale * (inner_offset + inner_rotation @ (inner_scale * pos))
     if not np.all(np.isfinite(origin)):  # a frame's position
         raise FileLevelError("pos", f"expected a finite position, got {origin.tolist()}.")
-    return GeomInertial(placed(body, inner_rotation @ rotation, origin), legacy, tuple(notes))
+    try:
+        body = placed(placed(body, turn, center), inner_rotation @ rotation, origin)
+    except PolhodeError as error:  # beyond double precision
+        raise GeomError("pos", error.message) from None
+    return GeomInertial(body, legacy, tuple(notes))
 
 
 def _fitted(

@@ -215,8 +215,9 @@ def _result(path: str, records: list[CompiledBody], strict: bool) -> Links:
         if refused:
             listed = "; ".join(f"{n!r} ({why})" for n, why in out.left_out.items())
             parts.append(
-                f"{len(refused)} {'body' if len(refused) == 1 else 'bodies'} left out, as "
-                f"MuJoCo refuses {'it' if len(refused) == 1 else 'them'}: {listed}"
+                f"{len(refused)} {'body' if len(refused) == 1 else 'bodies'} left out "
+                f"(MuJoCo refuses the model for {'it' if len(refused) == 1 else 'them'}): "
+                f"{listed}"
             )
         if clamped:
             listed = "; ".join(f"{n!r} ({why})" for n, (_, why) in clamped.items())
