@@ -378,6 +378,11 @@ def _kept_after_fusing(mujoco: Any, spec: Any, names: list[str]) -> set[str]:
     referenced, so a name changes nothing). If the copy cannot be fused (a mesh MuJoCo
     cannot load), its meshes are replaced by tetrahedra first: MuJoCo decides by structure
     (joints, references, ``fuse``), masses only matter for gravity compensation."""
+    if not hasattr(spec, "fuse_static"):
+        raise ImportError(
+            "fusing static bodies as MuJoCo does needs MuJoCo's MjSpec.fuse_static (MuJoCo "
+            ">= 3.16): pip install 'mujoco>=4'."
+        )
     for attempt in range(2):
         copy = spec.copy()
         for k, b in enumerate(copy.bodies):

@@ -336,7 +336,8 @@ def _geom_inertial(geom: Any, label: str, meshes: Meshes, outer: Placement) -> G
                 raise GeomError(
                     "size", f"size {int(np.argmax(~(size[:count] > 0)))} must be positive."
                 )
-        size = size * scale
+        if mesh is None:  # (a fitted primitive has the sizes of the scaled mesh)
+            size = size * scale
         measure = _measure("box" if kind == "hfield" else kind, size, shell)
         unit = None
         unit_body = (kind, size, shell)
