@@ -6,7 +6,8 @@ Prints, in units of eps = 2.2e-16 (relative errors: mass; centre of mass against
 radius of gyration plus its distance from the origin; tensor in the Frobenius norm):
 
 - read_mjcf against MuJoCo's compiled body_mass/body_ipos/body_iquat/body_inertia, for the
-  models MuJoCo ships (testdata/model.xml) and gymnasium's MuJoCo models;
+  models MuJoCo ships (testdata/model.xml) and gymnasium's MuJoCo models (every installed
+  MJCF corpus: benchmarks/io_mjcf_vs_mujoco.py);
 - read_urdf of upkie_description's URDF against its XML read by hand (rpy by scipy), yourdfpy's
   values and MuJoCo's compile of the URDF;
 - round trips read -> write (to_urdf_inertial / to_mjcf) -> read, on random bodies and on the
@@ -132,12 +133,7 @@ def main() -> None:
             warnings.simplefilter("ignore", UserWarning)  # half_cheetah's settotalmass
             model = mujoco.MjSpec.from_file(path).compile()
             bodies = ph.io.read_mjcf(path)
-        scale = 1.0
-        if "half_cheetah" in path:  # settotalmass=14: MuJoCo rescales, polhode reads as written
-            scale = model.body_mass[1:].sum() / sum(b.mass for b in bodies.values())
-        show(
-            f"{os.path.basename(path)} ({len(bodies)} bodies)", against_mujoco(bodies, model, scale)
-        )
+        show(f"{os.path.basename(path)} ({len(bodies)} bodies)", against_mujoco(bodies, model))
 
     urdf = upkie_description.URDF_PATH
     bodies = ph.io.read_urdf(urdf)

@@ -114,16 +114,15 @@ def test_mujoco_testdata_model_against_mujoco():
 @pytest.mark.filterwarnings("ignore:compiler attribute 'settotalmass':UserWarning")
 def test_gymnasium_models_against_mujoco(path):
     model = mujoco.MjSpec.from_file(path).compile()
-    bodies = ph.io.read_mjcf(path)
+    compare_with_mujoco(ph.io.read_mjcf(path), model)
     if "half_cheetah" in path:
-        # settotalmass=14: MuJoCo rescales every mass and inertia by one factor; polhode
-        # reads the values as written.
+        # settotalmass=14: MuJoCo rescales every mass and inertia by one factor, as read_mjcf
+        # does; as written, the file's own masses.
         assert model.body_mass[1:].sum() == pytest.approx(14.0, rel=1e-14)
-        factor = model.body_mass[1:].sum() / sum(b.mass for b in bodies.values())
+        written = ph.io.read_mjcf(path, as_written=True)
+        factor = model.body_mass[1:].sum() / sum(b.mass for b in written.values())
         assert not factor == pytest.approx(1.0, rel=1e-3)
-        compare_with_mujoco(bodies, model, scale=factor)
-        return
-    compare_with_mujoco(bodies, model)
+        compare_with_mujoco(written, model, scale=factor)
 
 
 ORIENTATIONS = """<mujoco>
@@ -252,9 +251,10 @@ def test_frames_shells_groups_and_mesh_files_against_mujoco(tmp_path):
     assert max(relative_errors(bodies["shell"], m, [0, 0, 0], np.eye(3) * m * 0.04 * 2 / 3)) < 1e-15
 
 
-def test_non_convex_mesh_is_exact_where_mujocos_legacy_is_not(tmp_path):
+def test_non_convex_mesh_legacy_as_mujoco_and_exact_as_written(tmp_path):
     # An L-shaped prism (non-convex): MuJoCo's default mesh inertia ("legacy") overstates its
-    # volume; polhode integrates it exactly, as trimesh does and MuJoCo does with "exact".
+    # volume, and read_mjcf gives what MuJoCo simulates; as written, and with "exact", the
+    # exact integrals, as trimesh's.
     outline = np.array([(0, 0), (3, 0), (3, 0.5), (0.5, 0.5), (0.5, 3), (0, 3)], float)
     triangles = np.array([(0, 1, 2), (0, 2, 3), (0, 3, 4), (0, 4, 5)])
     prism = trimesh.creation.extrude_triangulation(outline, triangles, 1.0)
@@ -270,15 +270,23 @@ def test_non_convex_mesh_is_exact_where_mujocos_legacy_is_not(tmp_path):
     for kind in ("legacy", "exact"):
         path = tmp_path / f"{kind}.xml"
         path.write_text(xml.format(kind=kind))
-        body = ph.io.read_mjcf(path)["b"]
+        written = ph.io.read_mjcf(path, as_written=True)["b"]
         assert (
-            max(relative_errors(body, exact.mass, exact.center_mass, exact.moment_inertia)) < 1e-14
+            max(relative_errors(written, exact.mass, exact.center_mass, exact.moment_inertia))
+            < 1e-14
         )
         model = mujoco.MjSpec.from_file(str(path)).compile()
-        if kind == "exact":
-            compare_with_mujoco({"b": body}, model, bound=1e-10)  # MuJoCo's eigEPS, as above
+        # MuJoCo's eigensolver stops at an off-diagonal of 1e-12 (eigEPS): ~1e-10 here.
+        compare_with_mujoco(ph.io.read_mjcf(path), model, bound=1e-10)
+        if kind == "legacy":
+            assert model.body_mass[1] > 1.5 * exact.mass  # MuJoCo's legacy volume: 4.37, not 2.75
+            found = ph.io.legacy_mesh_inertia(path)["b"]
+            assert found.meshes == ("L",)
+            assert found.legacy.mass == pytest.approx(model.body_mass[1], rel=1e-14)
+            assert found.exact.mass == pytest.approx(exact.mass, rel=1e-14)
+            assert found.mass_error == pytest.approx(model.body_mass[1] / exact.mass - 1, rel=1e-12)
         else:
-            assert model.body_mass[1] > 1.5 * body.mass  # MuJoCo's legacy volume: 4.37, not 2.75
+            assert ph.io.legacy_mesh_inertia(path) == {}
 
 
 def test_mjcf_density_mass_and_inertiafromgeom(tmp_path):
@@ -294,17 +302,23 @@ def test_mjcf_density_mass_and_inertiafromgeom(tmp_path):
     bodies = ph.io.read_mjcf(path)  # the file's densities and masses
     assert bodies["ball"].mass == pytest.approx(500 * v_ball, rel=1e-15)
     assert bodies["brick"].mass == pytest.approx(7.0, rel=1e-15)
-    bodies = ph.io.read_mjcf(path, density=1000.0)  # one density for the inferred bodies
+    # one density for the inferred bodies: the file's values replaced, so as written only
+    with pytest.raises(ArgumentError) as caught:
+        ph.io.read_mjcf(path, density=1000.0)
+    assert caught.value.argument == "density"
+    bodies = ph.io.read_mjcf(path, density=1000.0, as_written=True)
     assert bodies["declared"].mass == 5.0
     assert bodies["ball"].mass == pytest.approx(1000 * v_ball, rel=1e-15)
     assert bodies["brick"].mass == pytest.approx(1000 * v_brick, rel=1e-15)
     i_brick = 1000 * v_brick / 12 * np.diag([0.16 + 0.36, 0.04 + 0.36, 0.04 + 0.16])
     assert np.allclose(bodies["brick"].inertia, i_brick, rtol=1e-14, atol=0)
-    bodies = ph.io.read_mjcf(path, mass=10.0)  # a total shared by volume
+    bodies = ph.io.read_mjcf(path, mass=10.0, as_written=True)  # a total shared by volume
     assert bodies["ball"].mass + bodies["brick"].mass == pytest.approx(10.0, rel=1e-15)
     assert bodies["ball"].mass / bodies["brick"].mass == pytest.approx(v_ball / v_brick)
     path.write_text(xml.format(flag="false"))  # MuJoCo infers nothing: massless bodies
-    assert list(ph.io.read_mjcf(path)) == ["declared"]
+    bodies = ph.io.read_mjcf(path)
+    assert list(bodies) == ["declared"] and list(bodies.frames) == ["ball", "brick"]
+    assert list(ph.io.read_mjcf(path, as_written=True)) == ["declared"]
 
 
 # --- URDF against its XML, yourdfpy and MuJoCo ------------------------------------------------
@@ -705,7 +719,12 @@ def test_bad_geometry_sizes_are_named(text, suffix, field, fragment):
     """Were 'Expected `mass` to be positive, got -0.00419' (the volume passed as a mass), or
     a numpy warning and a mass of inf."""
     path = _write(text, suffix)
-    read = ph.io.read_mjcf if suffix == ".xml" else ph.io.read_urdf
+    if suffix == ".xml":
+
+        def read(path, density):
+            return ph.io.read_mjcf(path, density=density, as_written=True)
+    else:
+        read = ph.io.read_urdf
     with pytest.raises(FileFormatError) as error:
         read(path, density=1000.0)
     assert fragment in str(error.value) and error.value.field == field
@@ -869,17 +888,53 @@ def test_urdf_not_a_urdf(tmp_path, text, match):
          'vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset><worldbody>', "f", "geom[0].mesh"),
     ],
 )  # fmt: skip
-def test_broken_mjcf_names_the_file_body_and_field(tmp_path, body, link, field):
+@pytest.mark.parametrize("mode", ["as_written", "strict"])
+def test_broken_mjcf_names_the_file_body_and_field(tmp_path, body, link, field, mode):
+    """As written, every one raises; as MuJoCo compiles it, with strict=True, every one but
+    the box fitted to a mesh (which MuJoCo compiles, and polhode reads)."""
     path = tmp_path / "broken.xml"
     path.write_text(f"<mujoco><worldbody>\n{body}\n</worldbody></mujoco>")
+    if mode == "strict" and link == "f":
+        assert ph.io.read_mjcf(path, strict=True)["f"].mass > 0
+        return
     with pytest.raises(FileFormatError) as caught:
-        ph.io.read_mjcf(path)
+        ph.io.read_mjcf(path, **{mode: True})
     error = caught.value
     assert error.path == str(path) and str(path) in str(error)
     if link is not None:
         assert error.link == link and f"'{link}'" in str(error)
     if field is not None:
         assert error.field == field
+
+
+@pytest.mark.parametrize(
+    ("body", "name", "field", "fragment"),
+    [
+        ('<body name="t"><joint/><inertial pos="0 0 0" mass="1" diaginertia="1 1 3"/></body>',
+         "t", "inertial.diaginertia", "triangle inequality"),
+        ('<body name="g"><joint/><geom type="box" size="0.1 -0.1 0.1"/></body>', "g",
+         "geom[0].size", "size 1 must be positive"),
+        ('<body name="h"><joint/><geom type="mesh" mesh="gone"/></body>', "h", "geom[0].mesh",
+         "no mesh asset named 'gone'"),
+        ('<body name="m"><joint/></body>', "m", "inertial", "mjMINVAL"),
+    ],
+)  # fmt: skip
+def test_bodies_mujoco_refuses_are_left_out_and_named(tmp_path, body, name, field, fragment):
+    """Each refused by MuJoCo's compiler (checked); read_mjcf reads the rest of the file and
+    names the body, the field and the reason in a RobotFileWarning."""
+    path = tmp_path / "refused.xml"
+    good = '<body name="ok"><joint/><geom type="sphere" size="0.1"/></body>'
+    path.write_text(f"<mujoco><worldbody>{good}{body}</worldbody></mujoco>")
+    with pytest.raises(ValueError):
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.warns(ph.RobotFileWarning) as caught:
+        bodies = ph.io.read_mjcf(path)
+    assert list(bodies) == ["ok"] and bodies.frames == {}
+    assert list(bodies.left_out) == [name] and bodies.left_out[name].startswith(field)
+    assert fragment in bodies.left_out[name]
+    warning = caught[0].message
+    assert warning.path == str(path) and list(warning.links) == [name]
+    assert fragment in str(warning) and f"'{name}'" in str(warning)
 
 
 def test_missing_robot_files(tmp_path):

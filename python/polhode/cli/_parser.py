@@ -177,8 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="mass properties of a file: a mesh, a robot description's links, a molecule",
         description="Mass properties of a file: the mass, the centre of mass, the inertia "
         "tensor about it and the principal moments and axes. A mesh file (STL, OBJ, PLY, OFF, "
-        "glTF/GLB: give --density or --mass) as one uniform body; a URDF or MJCF file as a row "
-        "per link from its declared inertial, in the link's frame; any other file as a "
+        "glTF/GLB: give --density or --mass) as one uniform body; a URDF file as a row per "
+        "link from its declared inertial, an MJCF file as a row per body as MuJoCo compiles "
+        "it, each in its own frame; any other file as a "
         "molecule read by ASE (XYZ, PDB, CIF, ...; angstrom and u), with its rotational "
         "constants, Ray's asymmetry and rotor type. Exit status 2 if the file cannot be read.",
     )
@@ -188,7 +189,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--density",
         type=number("a positive finite density", positive=True),
         help="mesh: mass per volume (per area with --shell); URDF/MJCF: the density of the "
-        "links without an inertial",
+        "links without an inertial (MJCF: then read as written, not as MuJoCo compiles it)",
     )
     amount.add_argument(
         "--mass",

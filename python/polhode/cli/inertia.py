@@ -263,8 +263,12 @@ def _read_inertia(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     elif kind in ("urdf", "mjcf"):
         from polhode.io import read_mjcf, read_urdf
 
-        reader = read_urdf if kind == "urdf" else read_mjcf
-        links = reader(args.file, density=args.density, mass=args.mass)
+        if kind == "urdf":
+            links = read_urdf(args.file, density=args.density, mass=args.mass)
+        elif args.density is None and args.mass is None:
+            links = read_mjcf(args.file)  # as MuJoCo compiles it
+        else:  # the file's masses replaced: as written
+            links = read_mjcf(args.file, density=args.density, mass=args.mass, as_written=True)
         result["links"] = {name: _properties(b, args) for name, b in links.items()}
     else:
         body, series = _molecule(args, result)

@@ -2,9 +2,12 @@
 
 - :func:`read_mesh` reads STL (ascii and binary), OBJ, PLY, OFF and glTF/GLB with trimesh's
   loaders and returns the meshes of the file as bodies (``Body.from_file`` is their composite).
-- :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (MuJoCo's ``MjSpec``: the values
-  as written, before MuJoCo's compiler changes or rejects them) return one :class:`Body` per link
-  or body, in that link's own frame.
+- :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (parsed by MuJoCo's ``MjSpec``,
+  each body as MuJoCo's compiler gives it; ``as_written=True`` for the file's own values) return
+  one :class:`Body` per link or body, in that link's own frame, in a :class:`Links` that
+  also names the frames (bodies of no mass) and the bodies left out;
+  :func:`legacy_mesh_inertia` says by how much MuJoCo's default ``legacy`` mesh inertia
+  differs from the exact one, body by body.
 - :func:`audit` checks every link's declared inertial and its geometry, and returns a
   :class:`Finding` for each link (``polhode audit FILE`` prints them).
 
@@ -36,12 +39,23 @@ Examples
 """
 
 from polhode import _meshes
+from polhode.io._robot import Links
 from polhode.io.audit import Finding, audit
 from polhode.io.mesh import read_mesh
-from polhode.io.mjcf import read_mjcf
+from polhode.io.mjcf import LegacyMeshInertia, legacy_mesh_inertia, read_mjcf
 from polhode.io.urdf import read_urdf
 
-__all__ = ["Finding", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_urdf"]
+__all__ = [
+    "Finding",
+    "LegacyMeshInertia",
+    "Links",
+    "MESH_FORMATS",
+    "audit",
+    "legacy_mesh_inertia",
+    "read_mesh",
+    "read_mjcf",
+    "read_urdf",
+]
 
 #: The mesh formats :func:`read_mesh` reads (by the file's extension), all through trimesh.
 MESH_FORMATS = _meshes.MESH_FORMATS

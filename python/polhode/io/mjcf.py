@@ -1,452 +1,362 @@
-"""MJCF: the bodies of a MuJoCo model (parsed by MuJoCo's ``MjSpec``, the values as written)."""
+"""MJCF: the bodies of a MuJoCo model as MuJoCo's compiler gives them (or, with
+``as_written=True``, as the file writes them), parsed by MuJoCo's ``MjSpec``."""
 
 from __future__ import annotations
 
-import importlib
-import math
 import os
-import re
-from collections.abc import Sequence
-from typing import Any
+import warnings
+from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
-from polhode._coerce import as_scale, density_or_mass
-from polhode._files import existing, fspath, require
-from polhode._meshes import mesh_arrays, mesh_body
+from polhode._coerce import as_flag, density_or_mass
+from polhode._files import fspath
 from polhode.bodies import Body
-from polhode.errors import FileFormatError, PolhodeError
-from polhode.io._links import (
-    Inertial,
-    Link,
-    Part,
-    declared_body,
-    geometry_body,
-    placed,
-    resolve,
-    symmetric,
-    unit_volume,
-)
+from polhode.errors import ArgumentError, FileFormatError, PolhodeError, RobotFileWarning
+from polhode.io._mjcf_compile import CompiledBody, body_names, compile_bodies
+from polhode.io._mjcf_written import mjcf_links, mjcf_spec, read_as_written
+from polhode.io._robot import Links
 
-__all__ = ["mjcf_links", "read_mjcf"]
-
-
-def _quat_matrix(wxyz: Sequence[float]) -> NDArray[np.float64]:
-    """Rotation matrix of a (w, x, y, z) quaternion (MuJoCo's order), normalised."""
-    from scipy.spatial.transform import Rotation
-
-    w, x, y, z = (float(c) for c in wxyz)
-    return np.asarray(Rotation.from_quat([x, y, z, w]).as_matrix())
-
-
-def _convex_hull(vertices: NDArray[np.float64]) -> NDArray[np.int64]:
-    """Outward-wound triangles of the convex hull of ``vertices`` (scipy's Qhull)."""
-    from scipy.spatial import ConvexHull
-
-    hull = ConvexHull(vertices)
-    faces = np.array(hull.simplices, dtype=np.int64)
-    a, b, c = (vertices[faces[:, k]] for k in range(3))
-    normals = np.cross(b - a, c - a)
-    inward = np.einsum("ij,ij->i", normals, hull.equations[:, :3]) < 0
-    faces[inward] = faces[inward][:, ::-1]
-    return faces
-
-
-def _mjcf_spec(path: str) -> Any:
-    """MuJoCo's MjSpec of a file, its parse errors as FileFormatError naming the body."""
-    existing(path)
-    mujoco = require("mujoco", "robots")
-    try:
-        return mujoco.MjSpec.from_file(path)
-    except Exception as error:  # MuJoCo's parser raises ValueError with its message
-        message = str(error).strip()
-        element = re.search(r"Element '([^']*)'", message)
-        line = re.search(r"line (\d+)", message)
-        tag = element.group(1) if element else None
-        body = _mjcf_body_at(path, int(line.group(1)), tag) if line else None
-        where = f"body {body!r}: " if body else ""
-        raise FileFormatError(
-            f"{path}: {where}{message}",
-            path=path,
-            link=body,
-            field=element.group(1) if element else None,
-        ) from error
-
-
-def _mjcf_body_at(path: str, line: int, tag: str | None) -> str | None:
-    """The name of the innermost named <body> around (or at) the ``tag`` element that starts
-    on ``line``, if it can be found."""
-    import xml.etree.ElementTree as ET
-
-    try:
-        parser = ET.XMLPullParser(events=("start", "end"))
-        with open(path, "rb") as handle:
-            lines = handle.read().split(b"\n")
-        stack: list[str | None] = []
-        for number, chunk in enumerate(lines[:line], start=1):
-            parser.feed(chunk + b"\n")
-            for event, element in parser.read_events():
-                if event == "start" and element.tag == "body":
-                    stack.append(element.get("name"))
-                if event == "start" and number == line and tag in (None, element.tag):
-                    return next((n for n in reversed(stack) if n), None)
-                if event == "end" and element.tag == "body":
-                    stack.pop()
-        return None
-    except (ET.ParseError, OSError, IndexError):  # only decorates a message
-        return None
-
-
-def _mjcf_quat(spec: Any, quat: Any, alt: Any) -> NDArray[np.float64]:
-    """An element's orientation as a (w, x, y, z) quaternion: ``quat`` or the alternative
-    (euler, axisangle, xyaxes, zaxis), resolved by MuJoCo's own function with the file's
-    angle unit and Euler sequence."""
-    mujoco = importlib.import_module("mujoco")
-    if alt.type == mujoco.mjtOrientation.mjORIENTATION_QUAT:
-        return np.asarray(quat, dtype=float)
-    return np.asarray(
-        mujoco.MjSpec.resolve_orientation(spec.compiler.degree, spec.compiler.eulerseq, alt),
-        dtype=float,
-    )
-
-
-def _mjcf_rotation(
-    path: str, body: str, field: str, wxyz: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    if not np.all(np.isfinite(wxyz)) or not np.any(wxyz):
-        raise FileFormatError(
-            f"{path}: body {body!r}: {field}: expected a non-zero finite quaternion, "
-            f"got {wxyz.tolist()}.",
-            path=path,
-            link=body,
-            field=field,
-        )
-    return _quat_matrix(wxyz)
-
-
-def mjcf_links(path: str) -> tuple[list[Link], bool]:
-    """Every body of an MJCF file (the world left out): its declared inertial, and its geoms
-    at unit density with the density the file gives each (geoms of no mass left out); and
-    whether MuJoCo infers inertials from geoms (the compiler's ``inertiafromgeom`` is not
-    false)."""
-    spec = _mjcf_spec(path)
-    mujoco = importlib.import_module("mujoco")
-    folder = os.path.dirname(os.path.abspath(path))
-    low, high = (int(x) for x in spec.compiler.inertiagrouprange)
-    infer = spec.compiler.inertiafromgeom != mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-    links = []
-    # An unnamed body is "body K" (K its MuJoCo id), unless a body is named so: then
-    # "body K (unnamed)" (the two shared a key, and one of them was lost without a word).
-    taken = {body.name for body in spec.bodies if body.name}
-    for index, body in enumerate(spec.bodies):
-        if index == 0:
-            continue  # the world
-        name = body.name
-        if not name:
-            name = f"body {index}"
-            while name in taken:
-                name += " (unnamed)"
-        inertial = None
-        if body.explicitinertial:
-            full = np.asarray(body.fullinertia, dtype=float)
-            com = np.asarray(body.ipos, dtype=float)
-            if not np.all(np.isfinite(com)):
-                raise FileFormatError(
-                    f"{path}: body {name!r}: inertial.pos: expected 3 finite numbers, got "
-                    f"{com.tolist()}.",
-                    path=path,
-                    link=name,
-                    field="inertial.pos",
-                )
-            if np.isnan(full[0]):
-                rotation = _mjcf_rotation(
-                    path, name, "inertial.quat", _mjcf_quat(spec, body.iquat, body.ialt)
-                )
-                # An infinite moment gives NaN entries (inf * 0): refused or reported later.
-                with np.errstate(invalid="ignore", over="ignore"):
-                    tensor = rotation @ np.diag(np.asarray(body.inertia, dtype=float)) @ rotation.T
-                inertial = Inertial(
-                    float(body.mass), com, symmetric(tensor), "inertial.diaginertia"
-                )
-            else:
-                xx, yy, zz, xy, xz, yz = full
-                tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-                inertial = Inertial(float(body.mass), com, tensor, "inertial.fullinertia")
-        parts = []
-        for k, geom in enumerate(body.geoms):
-            label = f"geom {geom.name!r}" if geom.name else f"geom[{k}]"
-            if not low <= geom.group <= high:
-                continue
-            try:
-                part, density = _mjcf_geom(spec, mujoco, path, folder, name, label, geom)
-            except (FileFormatError, FileNotFoundError) as error:
-                parts.append(Part(label, None, error))
-                continue
-            if part is not None:
-                parts.append(Part(label, part, None, density))
-        links.append(Link(name, inertial, parts))
-    return links, infer
-
-
-def _mjcf_geom(
-    spec: Any, mujoco: Any, path: str, folder: str, body: str, label: str, geom: Any
-) -> tuple[Body | None, float]:
-    """A geom as a unit-density body in its body's frame, and the density the file gives it
-    (its ``density``, or its ``mass`` over its volume); None for a geom of no mass."""
-    t = mujoco.mjtGeom
-    kind = geom.type
-    size = np.asarray(geom.size, dtype=float).copy()
-    fromto = np.asarray(geom.fromto, dtype=float)
-    field = f"{label}"
-
-    def fail(message: str, what: str = "") -> FileFormatError:
-        f = f"{field}.{what}" if what else field
-        return FileFormatError(
-            f"{path}: body {body!r}: {f}: {message}", path=path, link=body, field=f
-        )
-
-    if kind in (t.mjGEOM_PLANE, t.mjGEOM_HFIELD, t.mjGEOM_SDF):
-        raise fail(f"a {str(kind).split('_')[-1].lower()} geom has no volume polhode computes.")
-    if geom.meshname and kind != t.mjGEOM_MESH:
-        raise fail(
-            "a primitive fitted to a mesh (a mesh attribute on a non-mesh geom) is not supported.",
-            "mesh",
-        )
-    if not np.isnan(fromto[0]):
-        if kind not in (t.mjGEOM_CAPSULE, t.mjGEOM_CYLINDER, t.mjGEOM_ELLIPSOID, t.mjGEOM_BOX):
-            raise fail("fromto applies to capsules, cylinders, ellipsoids and boxes.", "fromto")
-        axis = fromto[:3] - fromto[3:]
-        half = float(np.linalg.norm(axis)) / 2
-        if not half > 0:
-            raise fail("the two fromto points coincide.", "fromto")
-        if kind in (t.mjGEOM_ELLIPSOID, t.mjGEOM_BOX):  # as MuJoCo's compiler does
-            size[1], size[2] = size[0], half
-        else:
-            size[1] = half
-        quat = np.zeros(4)
-        mujoco.mju_quatZ2Vec(quat, axis / (2 * half))
-        position = (fromto[:3] + fromto[3:]) / 2
-    else:
-        quat = _mjcf_quat(spec, geom.quat, geom.alt)
-        position = np.asarray(geom.pos, dtype=float)
-    rotation = _mjcf_rotation(path, body, f"{field}.quat", quat)
-    # Frames around the geom, innermost first.
-    frame = geom.frame
-    while frame is not None:
-        if np.any(np.asarray(frame.scale, dtype=float) != 1.0):
-            raise fail(f"a scaling <frame> ({frame.name or 'unnamed'}) is not supported.")
-        r = _mjcf_rotation(path, body, "frame.quat", _mjcf_quat(spec, frame.quat, frame.alt))
-        position = r @ position + np.asarray(frame.pos, dtype=float)
-        rotation = r @ rotation
-        frame = frame.frame
-    shell = geom.typeinertia == mujoco.mjtGeomInertia.mjINERTIA_SHELL
-    try:
-        if kind == t.mjGEOM_MESH:
-            unit = _mjcf_mesh(spec, mujoco, path, folder, body, field, geom)
-        elif kind == t.mjGEOM_SPHERE:
-            r = size[0]
-            unit = (
-                Body.spherical_shell(unit_volume("sphere", r, lambda r: 4 * math.pi * r * r), r)
-                if shell
-                else Body.sphere(unit_volume("sphere", r, lambda r: 4 / 3 * math.pi * r**3), r)
-            )
-        elif shell:
-            raise fail("shell inertia is supported for spheres and meshes only.", "shellinertia")
-        elif kind == t.mjGEOM_CAPSULE:
-            r, h = size[0], 2 * size[1]
-            v = unit_volume("capsule", (r, h), lambda r, h: math.pi * (r * r * h + 4 / 3 * r**3))
-            unit = Body.capsule(v, r, h)
-        elif kind == t.mjGEOM_CYLINDER:
-            r, h = size[0], 2 * size[1]
-            v = unit_volume("cylinder", (r, h), lambda r, h: math.pi * r * r * h)
-            unit = Body.cylinder(v, r, h)
-        elif kind == t.mjGEOM_ELLIPSOID:
-            v = unit_volume("ellipsoid", size, lambda a, b, c: 4 / 3 * math.pi * (a * b * c))
-            unit = Body.ellipsoid(v, size)
-        elif kind == t.mjGEOM_BOX:
-            unit = Body.cuboid(unit_volume("box", size, lambda a, b, c: 8 * (a * b * c)), 2 * size)
-        else:
-            raise fail(f"geoms of type {kind} have no volume polhode computes.")
-    except FileFormatError:
-        raise
-    except PolhodeError as error:
-        raise fail(error.message, "size") from error
-    if not np.isnan(geom.mass):
-        if geom.mass == 0:
-            return None, 0.0
-        if not geom.mass > 0:
-            raise fail(f"expected a mass >= 0, got {geom.mass:g}.", "mass")
-        density = float(geom.mass) / unit.mass
-    else:
-        if geom.density == 0:
-            return None, 0.0
-        if not geom.density > 0:
-            raise fail(f"expected a density >= 0, got {geom.density:g}.", "density")
-        density = float(geom.density)
-    if not np.all(np.isfinite(position)):
-        # The geom's pos, or a frame's around it (the error named `offset`, an internal
-        # argument, without the file or the body).
-        raise fail(f"expected a finite position, got {np.asarray(position).tolist()}.", "pos")
-    try:
-        return placed(unit, rotation, position), density
-    except PolhodeError as error:
-        raise fail(error.message, "pos") from error
-
-
-def _mjcf_mesh(
-    spec: Any, mujoco: Any, path: str, folder: str, body: str, field: str, geom: Any
-) -> Body:
-    """A mesh geom's mesh as a unit-density body in the geom's frame (MuJoCo's mesh: the file
-    or the inline vertices, moved by refpos/refquat, then scaled; the convex hull for
-    inertia="convex" or vertices without faces; a shell for inertia="shell")."""
-    mesh = spec.mesh(geom.meshname)
-    if mesh is None:
-        raise FileFormatError(
-            f"{path}: body {body!r}: {field}.mesh: no mesh asset named {geom.meshname!r}.",
-            path=path,
-            link=body,
-            field=f"{field}.mesh",
-        )
-    scale = as_scale(np.asarray(mesh.scale, dtype=float), "mesh.scale")
-    label = f"mesh {mesh.name!r}"
-    if mesh.file:
-        name = os.path.basename(mesh.file) if spec.strippath else mesh.file
-        meshdir = spec.meshdir or ""
-        filename = os.path.join(folder, meshdir, name)
-        if not os.path.isfile(filename):
-            raise FileFormatError(
-                f"{path}: body {body!r}: {field}: the mesh file {mesh.file!r} is not found "
-                f"(looked for {filename!r}).",
-                path=path,
-                link=body,
-                field=f"{field}.mesh.file",
-            )
-        vertices, faces = mesh_arrays(filename, np.ones(3))
-        source = filename
-    elif len(mesh.uservert):
-        vertices = np.asarray(mesh.uservert, dtype=float).reshape(-1, 3)
-        faces = np.asarray(mesh.userface, dtype=np.int64).reshape(-1, 3)
-        source = path
-    else:
-        raise FileFormatError(
-            f"{path}: body {body!r}: {field}: {label} has neither a file nor vertices "
-            "(built-in and plugin meshes are not supported).",
-            path=path,
-            link=body,
-            field=f"{field}.mesh",
-        )
-    # As MuJoCo's compiler: refpos subtracted, turned back by refquat, then scaled.
-    refpos = np.asarray(mesh.refpos, dtype=float)
-    refquat = np.asarray(mesh.refquat, dtype=float)
-    if np.any(refpos):
-        vertices = vertices - refpos
-    if not np.array_equal(refquat, [1.0, 0.0, 0.0, 0.0]):
-        vertices = vertices @ _quat_matrix(refquat)
-    vertices = vertices * scale
-    if np.prod(scale) < 0 and len(faces):
-        faces = np.ascontiguousarray(faces[:, ::-1])
-    kind = mesh.inertia
-    shell = kind == mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-    if len(faces) == 0 or kind == mujoco.mjtMeshInertia.mjMESH_INERTIA_CONVEX:
-        try:
-            faces = _convex_hull(vertices)
-        except Exception as error:  # Qhull: flat or too few points
-            raise FileFormatError(
-                f"{path}: body {body!r}: {field}: {label}: no convex hull: {error}",
-                path=path,
-                link=body,
-                field=f"{field}.mesh",
-            ) from error
-    return mesh_body(
-        Body, source, label, vertices, faces, 1.0, shell, False, link=body, field=field
-    )
+__all__ = ["LegacyMeshInertia", "legacy_mesh_inertia", "mjcf_links", "read_mjcf"]
 
 
 def read_mjcf(
     path: str | os.PathLike[str],
     *,
+    as_written: bool = False,
+    merge_fixed: bool | None = None,
+    strict: bool = False,
     density: float | None = None,
     mass: float | None = None,
-) -> dict[str, Body]:
-    """The bodies of a MuJoCo MJCF file, each in its own frame.
+) -> Links:
+    """The bodies of a MuJoCo MJCF file, each in its own frame, with the mass, centre of mass
+    and inertia MuJoCo's compiler gives them.
 
-    The file is parsed by MuJoCo (``mujoco.MjSpec.from_file``) and its values are taken as
-    written, before MuJoCo's compiler changes or rejects them (``settotalmass``,
-    ``boundmass``, ``balanceinertia`` are not applied, nor ``inertiafromgeom="true"``'s
-    replacing of declared inertials; a tensor that breaks the triangle inequality raises here
-    with the body's name, as :func:`audit` reports it).
+    MuJoCo parses the file (``mujoco.MjSpec.from_file``: includes, defaults and classes);
+    polhode computes every mass property, as MuJoCo 4.0.0's compiler defines it:
 
-    A body with an ``<inertial>`` gets it: ``pos``, ``mass`` and ``diaginertia`` turned by
-    ``quat`` (or euler, axisangle, xyaxes, zaxis, in the file's angle unit and Euler sequence),
-    or ``fullinertia`` (I_xx, I_yy, I_zz, I_xy, I_xz, I_yz, tensor elements in the body's axes).
-    A body without one gets, as in MuJoCo, the mass properties of its geoms (spheres,
-    capsules, cylinders, ellipsoids, boxes and meshes, with their ``fromto``, frames, and
-    each geom's ``density`` or ``mass``; geoms outside the compiler's ``inertiagrouprange``
-    left out), computed by polhode. ``density`` or ``mass`` replace the file's densities for
-    those bodies (a geom the file gives no mass, ``density="0"`` or ``mass="0"`` as visual
-    geoms have, stays out). Bodies of no mass are left out; so is the world.
+    - ``inertiafromgeom``: ``"auto"`` (the default) takes a body's ``<inertial>``, or its geoms
+      if it has none; ``"true"`` its geoms even if it has one (the ``<inertial>`` stays when
+      no geom counts); ``"false"`` the ``<inertial>`` only;
+    - the geoms counted are those of a group in ``inertiagrouprange`` and of mass above 1e-14,
+      each of mass ``mass`` or ``density`` times its volume (its area with ``shellinertia``);
+      MuJoCo drops a ``mass`` given to a geom of volume at most 1e-14 (a plane, a tiny
+      sphere) without a word, and so does polhode, with a note;
+    - spheres, capsules, cylinders, ellipsoids, boxes (``fromto`` too), height fields (as
+      MuJoCo's box), primitives fitted to a mesh, and meshes: binary STL, OBJ (MuJoCo takes
+      the faces of the first object only) and MSH, their vertices rounded to float32 as
+      MuJoCo stores them, moved by ``refpos``, ``refquat`` and ``scale``, integrated as the
+      mesh's ``inertia`` says: ``"exact"``, ``"convex"`` (the hull), ``"shell"`` exactly,
+      and ``"legacy"`` (MuJoCo 4.0.0's default) by MuJoCo's own formula, which over-counts
+      the volume of non-convex meshes (:func:`legacy_mesh_inertia` says by how much);
+    - geoms inside ``<frame>``s, and frames that ``scale`` their contents (with
+      ``massscale``; one scale for the three axes);
+    - ``boundmass`` and ``boundinertia`` (they also turn a negative mass or moment into 0),
+      ``balanceinertia``, and ``settotalmass`` last, static bodies too.
 
-    A mesh's ``inertia`` attribute is followed for ``"convex"`` (its convex hull, also used
-    for vertices without faces) and ``"shell"``; ``"exact"`` and MuJoCo's default
-    ``"legacy"`` both give the exact integrals of the closed mesh. MuJoCo's legacy integration
-    differs for non-convex meshes (it overstates an L-shaped prism's mass by 59%); polhode's
-    value is then the right one, and MuJoCo's agrees with it with ``inertia="exact"``.
+    A body of no mass is not a :class:`Body`: it is named in ``frames`` of the result. A body
+    MuJoCo refuses (a moving body whose mass or a principal moment is below 1e-15, a tensor
+    that breaks the triangle inequality, a geom or mesh it cannot compile) is left out and
+    named, with the reason, in one :class:`polhode.RobotFileWarning` and in ``left_out``;
+    ``strict=True`` raises the first as a FileFormatError instead.
+
+    MuJoCo's own eigensolver stops early (at 1e-12 absolute, or a rotation under 1.4e-6
+    rad), so its tensors can differ from these, the exact ones, by up to about 1.5e-6 times
+    the spread of the principal moments; masses, centres and principal moments agree to
+    round-off. With ``alignfree``, MuJoCo moves a free body's frame onto its centre of mass;
+    the values here stay in the body's frame as the file writes it.
 
     Parameters
     ----------
     path : str or os.PathLike
         The MJCF (MuJoCo XML) file.
+    as_written : bool
+        Read the file's own values instead, before MuJoCo's compiler changes them: each
+        declared ``<inertial>`` as it is, the geoms of bodies without one (polhode's exact
+        integrals for every mesh), no bounds, no ``settotalmass``; a tensor no body can
+        have raises. The audit compares these with the geometry.
+    merge_fixed : bool, optional
+        Fuse the bodies without joints into their parents, as MuJoCo's ``fusestatic`` does
+        (MuJoCo decides which: a body referenced elsewhere or ``fuse="false"`` stays); a
+        body fused into the world is dropped with its mass, as in MuJoCo. The fused bodies
+        are listed in ``merged``. Default: as the file's ``<compiler fusestatic>`` says
+        (false unless it says so).
+    strict : bool
+        Raise a FileFormatError for the first body MuJoCo refuses, or whose negative mass
+        or moment it raises to 0, instead of leaving it out with a warning.
     density : float, optional
-        One density for the geoms of every body without an inertial (instead of the geoms'
-        own ``density`` and ``mass``).
+        With ``as_written=True``: one density for the geoms of every body without an
+        inertial (instead of the geoms' own ``density`` and ``mass``).
     mass : float, optional
-        Total mass of the bodies without an inertial, shared in proportion to the volumes of
-        their geoms.
+        With ``as_written=True``: the total mass of the bodies without an inertial, shared
+        in proportion to the volumes of their geoms.
 
     Returns
     -------
-    dict[str, Body]
-        By body name (an unnamed body as ``"body K"``, K its MuJoCo body id, or
-        ``"body K (unnamed)"`` if a body is named ``"body K"``), in the file's
-        order.
+    polhode.io.Links
+        ``{name: Body}`` by body name in the file's order (an unnamed body as ``"body K"``,
+        K its MuJoCo body id without fusing, or ``"body K (unnamed)"`` if a body is named
+        ``"body K"``), the world left out; with ``frames``, ``left_out``, ``merged`` and
+        ``notes``.
 
     Raises
     ------
     FileNotFoundError
         No such file.
     polhode.errors.FileFormatError
-        MuJoCo cannot parse the file (its message, with the body around the line it names), a
-        declared inertial that is not one, or a geom whose mass properties cannot be computed;
-        ``link`` and ``field`` name the body and the attribute.
+        MuJoCo cannot parse the file (its message, with the body around the line it names),
+        an ``<inertial>`` with both ``diaginertia`` and ``fullinertia``, a stretching
+        ``<frame>``; with ``strict=True`` a body MuJoCo refuses; with ``as_written=True`` a
+        declared inertial that is not one, or a geom whose mass properties cannot be
+        computed. ``link`` and ``field`` name the body and the attribute.
+    polhode.errors.ArgumentError
+        ``density`` or ``mass`` without ``as_written=True``, or both; ``merge_fixed`` with
+        ``as_written=True``.
+
+    Warns
+    -----
+    polhode.RobotFileWarning
+        Bodies left out (MuJoCo refuses them), negative masses or moments read as 0.
 
     Examples
     --------
     >>> import os, tempfile
     >>> import polhode as ph
-    >>> xml = '''<mujoco><worldbody>
-    ...   <body name="arm"><inertial pos="0 0 0.1" mass="2" diaginertia="0.02 0.02 0.01"/></body>
-    ...   <body name="ball"><geom type="sphere" size="0.1" density="1000"/></body>
+    >>> xml = '''<mujoco><compiler inertiafromgeom="true"/><worldbody>
+    ...   <body name="arm"><joint/><inertial pos="0 0 0.1" mass="2" diaginertia="0.02 0.02 0.01"/>
+    ...     <geom type="box" size="0.05 0.05 0.2" pos="0 0 0.2" density="500"/></body>
+    ...   <body name="mount"/>
     ... </worldbody></mujoco>'''
     >>> path = os.path.join(tempfile.mkdtemp(), "m.xml")
     >>> with open(path, "w") as handle:
     ...     _ = handle.write(xml)
-    >>> bodies = ph.io.read_mjcf(path)
-    >>> bodies["arm"].center_of_mass.tolist(), round(bodies["ball"].mass, 6)
-    ([0.0, 0.0, 0.1], 4.18879)
+    >>> bodies = ph.io.read_mjcf(path)       # as MuJoCo simulates it: the box, 500 x 0.004
+    >>> round(bodies["arm"].mass, 12), bodies["arm"].center_of_mass.tolist(), list(bodies.frames)
+    (2.0, [0.0, 0.0, 0.2], ['mount'])
+    >>> written = ph.io.read_mjcf(path, as_written=True)   # the <inertial> as written
+    >>> written["arm"].center_of_mass.tolist()
+    [0.0, 0.0, 0.1]
     """
     path = fspath(path)
-    rho, total = density_or_mass(density, mass, required=False)
-    links, infer = mjcf_links(path)
-    if rho is not None or total is not None:
-        return resolve(path, "body", links, rho, total)
-    # MuJoCo's semantics: a body without an inertial has its geoms' at their own densities.
-    out: dict[str, Body] = {}
-    for link in links:
-        if link.inertial is not None:
-            out[link.name] = declared_body(path, "body", link)
-        elif infer:
-            body = geometry_body(link, file_density=True)
-            if body is not None:
-                out[link.name] = body
+    as_flag("as_written", as_written)
+    as_flag("strict", strict)
+    if merge_fixed is not None:
+        as_flag("merge_fixed", merge_fixed)
+    if as_written:
+        if merge_fixed:
+            raise ArgumentError(
+                "merge_fixed fuses bodies as MuJoCo compiles them: it does not apply with "
+                "as_written=True.",
+                argument="merge_fixed",
+            )
+        rho, total = density_or_mass(density, mass, required=False)
+        bodies = read_as_written(path, rho, total)
+        frames = {
+            n: "no mass as written" for n in body_names(mjcf_spec(path))[1:] if n not in bodies
+        }
+        return Links(bodies, path=path, frames=frames)
+    if density is not None or mass is not None:
+        raise ArgumentError(
+            "density and mass replace the masses the file gives its geoms, which MuJoCo "
+            "never does: they need as_written=True.",
+            argument="density" if density is not None else "mass",
+        )
+    spec = mjcf_spec(path)
+    fuse = bool(spec.compiler.fusestatic) if merge_fixed is None else bool(merge_fixed)
+    records = compile_bodies(spec, path, fuse=fuse)
+    return _result(path, records, strict)
+
+
+def _result(path: str, records: list[CompiledBody], strict: bool) -> Links:
+    """The compiled bodies as Links; the warning (or, strict, the error) for the
+    bodies left out and the values MuJoCo changes."""
+    names = {r.index: r.name for r in records}
+    into = {r.index: r.merged_into for r in records}
+    out = Links(path=path)
+    refused: dict[str, tuple[str, str]] = {}
+    clamped: dict[str, tuple[str, str]] = {}
+    for r in records:
+        if r.notes:
+            out.notes[r.name] = list(r.notes)
+        if r.merged_into is not None:
+            target = r.merged_into
+            while into.get(target) is not None:  # merged into a body merged in turn
+                target = into[target]  # type: ignore[assignment]
+            out.merged[r.name] = names.get(target, "world")
+            continue
+        if r.problem is not None:
+            refused[r.name] = r.problem
+            continue
+        if r.clamped is not None:
+            clamped[r.name] = r.clamped
+            out.notes.setdefault(r.name, []).append(r.clamped[1])
+        body = None
+        try:
+            body = r.body()
+        except PolhodeError as error:
+            refused[r.name] = ("inertial", error.message)
+            continue
+        if body is None:
+            out.frames[r.name] = (
+                "mass 0: a moving body whose mass is on the bodies fixed to it"
+                if r.moving
+                else "mass 0: a body without joints"
+            )
+        else:
+            out[r.name] = body
+    if strict:
+        for name, (field, reason) in list(refused.items()) + list(clamped.items()):
+            raise FileFormatError(
+                f"{path}: body {name!r}: {field}: {reason}", path=path, link=name, field=field
+            )
+    out.left_out = {name: f"{field}: {reason}" for name, (field, reason) in refused.items()}
+    if refused or clamped:
+        parts = []
+        if refused:
+            listed = "; ".join(f"{n!r} ({why})" for n, why in out.left_out.items())
+            parts.append(
+                f"{len(refused)} {'body' if len(refused) == 1 else 'bodies'} left out "
+                f"(MuJoCo refuses the model for {'it' if len(refused) == 1 else 'them'}): "
+                f"{listed}"
+            )
+        if clamped:
+            listed = "; ".join(f"{n!r} ({why})" for n, (_, why) in clamped.items())
+            parts.append(f"read as MuJoCo compiles it: {listed}")
+        warnings.warn(
+            RobotFileWarning(f"{path}: " + ". ".join(parts) + ".", path=path, links=out.left_out),
+            stacklevel=3,
+        )
     return out
+
+
+@dataclass(frozen=True)
+class LegacyMeshInertia:
+    """A body whose inertial MuJoCo computes with ``legacy`` mesh inertia (MuJoCo 4.0.0's
+    default), against the exact integrals of the same meshes.
+
+    Attributes
+    ----------
+    body : str
+        The body.
+    meshes : tuple of str
+        Its meshes in ``legacy`` mode.
+    legacy : Body or None
+        The body as MuJoCo compiles it (None if MuJoCo refuses it).
+    exact : Body or None
+        The body with those meshes integrated exactly (None if a mesh has no exact volume:
+        it is open or inconsistently wound).
+    reason : str or None
+        Why ``exact`` (or ``legacy``) is None.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> from polhode.io import LegacyMeshInertia
+    >>> found = LegacyMeshInertia("arm", ("arm_mesh",), ph.Body.sphere(1.3, 0.1),
+    ...                           ph.Body.sphere(1.0, 0.1), None)
+    >>> round(found.mass_error, 12), round(found.inertia_error, 12)
+    (0.3, 0.3)
+    """
+
+    body: str
+    meshes: tuple[str, ...]
+    legacy: Body | None
+    exact: Body | None
+    reason: str | None
+
+    @property
+    def mass_error(self) -> float:
+        """(legacy - exact) / exact mass: what MuJoCo's legacy integral adds (NaN when either
+        is missing)."""
+        if self.legacy is None or self.exact is None:
+            return float("nan")
+        return (self.legacy.mass - self.exact.mass) / self.exact.mass
+
+    @property
+    def inertia_error(self) -> float:
+        """||I_legacy - I_exact|| / ||I_exact|| (Frobenius, about each one's centre of mass,
+        in the body's axes; NaN when either is missing)."""
+        if self.legacy is None or self.exact is None:
+            return float("nan")
+        exact = self.exact.inertia
+        return float(np.linalg.norm(self.legacy.inertia - exact) / np.linalg.norm(exact))
+
+    @property
+    def center_error(self) -> float:
+        """Distance between the two centres of mass (NaN when either is missing)."""
+        if self.legacy is None or self.exact is None:
+            return float("nan")
+        return float(np.linalg.norm(self.legacy.center_of_mass - self.exact.center_of_mass))
+
+
+def legacy_mesh_inertia(path: str | os.PathLike[str]) -> dict[str, LegacyMeshInertia]:
+    """The bodies of an MJCF file whose inertial MuJoCo computes from meshes in its
+    ``legacy`` mode (the default of ``<mesh inertia>`` in MuJoCo 4.0.0), each as MuJoCo
+    compiles it and with those meshes integrated exactly (as ``inertia="exact"`` would,
+    but polhode's exact integral even where MuJoCo refuses ``exact``, and none for a mesh
+    that is not closed). MuJoCo's legacy integral sums the pyramids from the faces' centroid
+    in absolute value: it is exact for meshes seen whole from that point, and over-counts
+    the others (a U-shaped prism by 23 %).
+
+    Bodies are compiled as :func:`read_mjcf` does (without fusing); ``mass_error``,
+    ``inertia_error`` and ``center_error`` say by how much the two differ.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The MJCF file.
+
+    Returns
+    -------
+    dict[str, LegacyMeshInertia]
+        By body name, in the file's order; bodies without legacy meshes are not in it.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import polhode as ph
+    >>> u = [(0, 0), (3, 0), (3, 3), (2, 3), (2, 1), (1, 1), (1, 3), (0, 3)]   # a U prism
+    >>> vertices = " ".join(f"{x} {y} {z}" for z in (0, 1) for x, y in u)
+    >>> caps = [(0, 1, 4), (0, 4, 5), (1, 2, 4), (2, 3, 4), (0, 5, 7), (5, 6, 7)]
+    >>> faces = [f[::-1] for f in caps] + [tuple(i + 8 for i in f) for f in caps]
+    >>> faces += [f for i in range(8) for f in ((i, (i + 1) % 8, (i + 1) % 8 + 8),
+    ...                                         (i, (i + 1) % 8 + 8, i + 8))]
+    >>> xml = f'''<mujoco><asset><mesh name="u" vertex="{vertices}"
+    ...   face="{" ".join(str(i) for f in faces for i in f)}"/></asset>
+    ...   <worldbody><body name="u"><freejoint/><geom type="mesh" mesh="u"/></body>
+    ... </worldbody></mujoco>'''
+    >>> path = os.path.join(tempfile.mkdtemp(), "u.xml")
+    >>> with open(path, "w") as handle:
+    ...     _ = handle.write(xml)
+    >>> found = ph.io.legacy_mesh_inertia(path)["u"]
+    >>> round(found.exact.mass), round(found.legacy.mass, 2), f"{found.mass_error:.1%}"
+    (7000, 8617.54, '23.1%')
+    """
+    path = fspath(path)
+    spec = mjcf_spec(path)
+    legacy = {r.name: r for r in compile_bodies(spec, path, fuse=False)}
+    exact = {
+        r.name: r for r in compile_bodies(mjcf_spec(path), path, fuse=False, exact_legacy=True)
+    }
+    out: dict[str, LegacyMeshInertia] = {}
+    for name, record in legacy.items():
+        if not record.legacy:
+            continue
+        other = exact[name]
+        reason = None
+        mj = None if record.problem else _body_or_none(record)
+        if record.problem:
+            reason = f"MuJoCo refuses the body: {record.problem[1]}"
+        ex = None if other.problem else _body_or_none(other)
+        if other.problem:
+            reason = other.problem[1]
+        meshes = tuple(dict.fromkeys(record.legacy))
+        out[name] = LegacyMeshInertia(name, meshes, mj, ex, reason)
+    return out
+
+
+def _body_or_none(record: CompiledBody) -> Body | None:
+    try:
+        return record.body()
+    except PolhodeError:
+        return None
