@@ -26,7 +26,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
-from polhode.errors import ArgumentError, FileFormatError
+from polhode.errors import ArgumentError, FileFormatError, RobotFileWarning
 
 mujoco = pytest.importorskip("mujoco")
 yourdfpy = pytest.importorskip("yourdfpy")
@@ -705,9 +705,18 @@ def test_bad_geometry_sizes_are_named(text, suffix, field, fragment):
     """Were 'Expected `mass` to be positive, got -0.00419' (the volume passed as a mass), or
     a numpy warning and a mass of inf."""
     path = _write(text, suffix)
-    read = ph.io.read_mjcf if suffix == ".xml" else ph.io.read_urdf
-    with pytest.raises(FileFormatError) as error:
-        read(path, density=1000.0)
+    if suffix == ".xml":
+        with pytest.raises(FileFormatError) as error:
+            ph.io.read_mjcf(path, density=1000.0)
+    else:
+        with pytest.raises(FileFormatError) as error:
+            ph.io.read_urdf(path, density=1000.0, strict=True)
+        # Read whole, the link is left out, named with the field in the file's one warning.
+        with pytest.warns(RobotFileWarning) as caught:
+            links = ph.io.read_urdf(path, density=1000.0)
+        assert len(caught) == 1 and caught[0].message.links == links.left_out
+        assert list(links) == [] and links.left_out["a"].startswith(field + ": ")
+        assert fragment in links.left_out["a"]
     assert fragment in str(error.value) and error.value.field == field
     assert "`mass`" not in str(error.value)
 
@@ -744,10 +753,18 @@ def test_a_position_that_is_not_finite_names_the_body_and_geom(body):
 def test_urdf_the_checker_refuses_what_yourdfpy_cannot_read(text, link, field):
     """Numbers with commas passed the checker and a robot without a name was not checked:
     yourdfpy then failed ("could not convert string to float", KeyError: 'name') and the
-    error had neither the link nor the field."""
+    error had neither the link nor the field. strict=True raises naming them; read whole,
+    the link is left out (the commas), or the file read with a warning (no robot name)."""
+    path = _write(text)
     with pytest.raises(FileFormatError) as error:
-        ph.io.read_urdf(_write(text))
+        ph.io.read_urdf(path, strict=True)
     assert error.value.link == link and error.value.field == field
+    with pytest.warns(RobotFileWarning, match=field.replace(".", r"\.") if link else "no name"):
+        links = ph.io.read_urdf(path)
+    if link is not None:
+        assert links.left_out[link].startswith(field + ": ") and link not in links
+    else:
+        assert links.left_out == {} and links.frames == {"a": "no <inertial>: the root"}
 
 
 def test_audit_of_upkie():
@@ -815,10 +832,22 @@ def test_broken_urdf_names_the_file_link_and_field(tmp_path, inner, link, field)
     path = tmp_path / "broken.urdf"
     path.write_text(f'<robot name="r">{inner}</robot>')
     with pytest.raises(FileFormatError) as caught:
-        ph.io.read_urdf(path)
+        ph.io.read_urdf(path, strict=True)
     error = caught.value
     assert (error.path, error.link, error.field) == (str(path), link, field)
     assert str(path) in str(error) and f"'{link}'" in str(error) and field in str(error)
+    if field == "link.name":  # two links of one name: not a robot description
+        with pytest.raises(FileFormatError):
+            ph.io.read_urdf(path)
+        return
+    # Read whole: the link is left out, named with its field in the file's one warning (a
+    # geometry that cannot be read matters only where the geometry is used).
+    used = field.startswith(("collision", "visual"))
+    with pytest.warns(RobotFileWarning) as warned:
+        links = ph.io.read_urdf(path, density=1.0 if used else None)
+    assert len(warned) == 1 and str(path) in str(warned[0].message)
+    assert warned[0].message.links == links.left_out
+    assert link not in links and links.left_out[link].startswith(field + ": ")
 
 
 def test_urdf_missing_mesh_with_density(tmp_path):
@@ -829,8 +858,11 @@ def test_urdf_missing_mesh_with_density(tmp_path):
     )
     assert ph.io.read_urdf(path) == {}  # without density the geometry is not read
     with pytest.raises(FileFormatError) as caught:
-        ph.io.read_urdf(path, density=1.0)
+        ph.io.read_urdf(path, density=1.0, strict=True)
     assert caught.value.link == "m" and caught.value.field == "collision[0].geometry.mesh.filename"
+    with pytest.warns(RobotFileWarning, match="nowhere.stl"):
+        links = ph.io.read_urdf(path, density=1.0)
+    assert links == {} and links.left_out["m"].startswith("collision[0].geometry.mesh.filename")
     # The audit: a massless link, and a geometry it cannot compute.
     findings = ph.io.audit(path)
     assert [(f.severity, f.check) for f in findings] == [

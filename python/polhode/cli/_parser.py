@@ -207,6 +207,17 @@ def build_parser() -> argparse.ArgumentParser:
         "--fix-winding", action="store_true", help="mesh: turn an inside-out mesh right way out"
     )
     inertia_parser.add_argument(
+        "--merge-fixed",
+        action="store_true",
+        help="URDF: one row per moving part, every link on a fixed joint fused into its parent",
+    )
+    inertia_parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="URDF: refuse the file (exit status 2) at the first link a simulator would refuse, "
+        "instead of leaving it out with a warning",
+    )
+    inertia_parser.add_argument(
         "--masses",
         choices=tuple(MASS_SOURCES),
         help="molecule: the atomic masses, the most abundant isotope's (default) or the "

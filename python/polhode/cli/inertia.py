@@ -8,6 +8,7 @@ import csv
 import json
 import os
 import sys
+import warnings
 from typing import Any
 
 import numpy as np
@@ -29,6 +30,8 @@ INERTIA_OPTIONS = {
     "--scale": ("scale", ("mesh",)),
     "--shell": ("shell", ("mesh",)),
     "--fix-winding": ("fix_winding", ("mesh",)),
+    "--merge-fixed": ("merge_fixed", ("urdf",)),
+    "--strict": ("strict", ("urdf",)),
     "--masses": ("masses", ("molecule",)),
     "--unit": ("unit", ("molecule",)),
     "--format": ("format", ("molecule",)),
@@ -263,8 +266,33 @@ def _read_inertia(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     elif kind in ("urdf", "mjcf"):
         from polhode.io import read_mjcf, read_urdf
 
-        reader = read_urdf if kind == "urdf" else read_mjcf
-        links = reader(args.file, density=args.density, mass=args.mass)
+        if kind == "urdf":
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", ph.RobotFileWarning)
+                links = read_urdf(
+                    args.file,
+                    density=args.density,
+                    mass=args.mass,
+                    merge_fixed=bool(args.merge_fixed),
+                    strict=bool(args.strict),
+                )
+            for warning in caught:
+                if issubclass(warning.category, ph.RobotFileWarning):
+                    print(
+                        f"polhode inertia: warning: {warning.message} (`polhode audit "
+                        f"{args.file}` checks every link.)",
+                        file=sys.stderr,
+                    )
+                else:  # not ours: through the filters again
+                    warnings.warn_explicit(
+                        warning.message, warning.category, warning.filename, warning.lineno
+                    )
+            result["frames"] = dict(links.frames)
+            result["left_out"] = dict(links.left_out)
+            if args.merge_fixed:
+                result["merged"] = dict(links.merged)
+        else:
+            links = read_mjcf(args.file, density=args.density, mass=args.mass)
         result["links"] = {name: _properties(b, args) for name, b in links.items()}
     else:
         body, series = _molecule(args, result)

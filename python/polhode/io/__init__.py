@@ -2,15 +2,17 @@
 
 - :func:`read_mesh` reads STL (ascii and binary), OBJ, PLY, OFF and glTF/GLB with trimesh's
   loaders and returns the meshes of the file as bodies (``Body.from_file`` is their composite).
-- :func:`read_urdf` (parsed by yourdfpy) and :func:`read_mjcf` (MuJoCo's ``MjSpec``: the values
-  as written, before MuJoCo's compiler changes or rejects them) return one :class:`Body` per link
-  or body, in that link's own frame.
+- :func:`read_urdf` reads a URDF file whole: one :class:`Body` per link, in that link's own
+  frame, or with ``merge_fixed=True`` one per moving part; what is not a body is said in the
+  result (:class:`Links`: its massless ``frames``, the links ``left_out`` and why) and in one
+  :class:`polhode.errors.RobotFileWarning`.
+- :func:`read_mjcf` (MuJoCo's ``MjSpec``) returns one :class:`Body` per body.
 - :func:`audit` checks every link's declared inertial and its geometry, and returns a
   :class:`Finding` for each link (``polhode audit FILE`` prints them).
 
 The mass properties are polhode's own (exact mesh integrals, the core's solids); the libraries
 only read the files. They are optional: ``pip install 'polhode[mesh]'`` (trimesh) and
-``'polhode[robots]'`` (yourdfpy and MuJoCo).
+``'polhode[robots]'`` (yourdfpy, for its rules of mesh file names and its lxml, and MuJoCo).
 
 A broken file raises :class:`polhode.errors.FileFormatError`, whose message and attributes name
 the file, the link (or body, or mesh part) and the field at fault; a missing file raises
@@ -36,12 +38,13 @@ Examples
 """
 
 from polhode import _meshes
+from polhode.io._robot import Links
 from polhode.io.audit import Finding, audit
 from polhode.io.mesh import read_mesh
 from polhode.io.mjcf import read_mjcf
 from polhode.io.urdf import read_urdf
 
-__all__ = ["Finding", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_urdf"]
+__all__ = ["Finding", "Links", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_urdf"]
 
 #: The mesh formats :func:`read_mesh` reads (by the file's extension), all through trimesh.
 MESH_FORMATS = _meshes.MESH_FORMATS
