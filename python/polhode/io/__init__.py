@@ -39,12 +39,22 @@ Examples
 
 from polhode import _meshes
 from polhode.io._robot import Links
+from polhode.io.audit import CHECKS as AUDIT_CHECKS
 from polhode.io.audit import Finding, audit
 from polhode.io.mesh import read_mesh
 from polhode.io.mjcf import read_mjcf
 from polhode.io.urdf import read_urdf
 
-__all__ = ["Finding", "Links", "MESH_FORMATS", "audit", "read_mesh", "read_mjcf", "read_urdf"]
+__all__ = [
+    "AUDIT_CHECKS",
+    "Finding",
+    "Links",
+    "MESH_FORMATS",
+    "audit",
+    "read_mesh",
+    "read_mjcf",
+    "read_urdf",
+]
 
 #: The mesh formats :func:`read_mesh` reads (by the file's extension), all through trimesh.
 MESH_FORMATS = _meshes.MESH_FORMATS

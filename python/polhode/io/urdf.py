@@ -3,6 +3,7 @@ out and named), each field checked on the XML so that a bad one is named with it
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 import re
@@ -343,7 +344,13 @@ def _shape_body(path: str, link: str, shape: _Shape, folder: str) -> Body | None
             from yourdfpy.urdf import filename_handler_magic
 
             name = g.get("filename")
-            filename = filename_handler_magic(name, dir=folder)
+            # yourdfpy logs a warning for a name it cannot resolve: the error below says it.
+            logger = logging.getLogger("yourdfpy.urdf")
+            disabled, logger.disabled = logger.disabled, True
+            try:
+                filename = filename_handler_magic(name, dir=folder)
+            finally:
+                logger.disabled = disabled
             if not os.path.isfile(filename):
                 raise fail(
                     f"the mesh {name!r} is not found (looked for {filename!r}).",
