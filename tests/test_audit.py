@@ -312,3 +312,30 @@ def test_corrected_inertials_have_the_digits_that_matter(tmp_path):
         body = ph.io.read_urdf(back)["p"]
     expected = box_tensor(0.9185, plate)
     assert np.linalg.norm(body.inertia - expected) <= 5e-6 * np.linalg.norm(expected)
+
+
+def test_an_mjcf_body_whose_geoms_cannot_be_computed_is_not_called_massless(tmp_path):
+    # MuJoCo infers the inertial from the geoms; polhode cannot compute a missing mesh, so the
+    # body's mass is unknown here: a note, not an error (dm-control's meshes gave 390 of them).
+    path = write(
+        tmp_path,
+        '<mujoco><asset><mesh name="m" file="gone.stl"/></asset><worldbody><body name="a">'
+        '<freejoint/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>',
+        "m.xml",
+    )
+    findings = by_link(ph.io.audit(path))
+    assert findings == {"a": [("warning", "geometry_error"), ("info", "no_inertial")]}
+
+
+def test_a_double_hyphen_in_a_comment_is_read(tmp_path):
+    # Not well-formed XML, but read by tinyxml2 (MuJoCo, ROS's urdfdom): read here too.
+    text = robot({"arm": inertial_xml(M, GOOD)}).replace(
+        '<link name="base"/>', '<link name="base"/><!-- a -- comment -->'
+    )
+    path = write(tmp_path, text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert list(ph.io.read_urdf(path)) == ["arm"]
+    truncated = write(tmp_path, text[:-20], "truncated.urdf")
+    with pytest.raises(ph.FileFormatError, match="not valid XML"):
+        ph.io.read_urdf(truncated)

@@ -184,8 +184,17 @@ def format_of(path: str) -> str:
     """'urdf' or 'mjcf', by the root element of the XML (undeclared namespace prefixes, such
     as Drake's ``drake:`` in URDF files, do not matter here)."""
     existing(path)
-    root = xml_root(path)
-    tag = root.tag
+    etree = require("lxml.etree", "robots")  # a dependency of yourdfpy
+    tag = None
+    try:  # the first start tag only: the readers (lxml for URDF, MuJoCo for MJCF) judge the rest
+        with open(path, "rb") as handle:
+            for _, element in etree.iterparse(handle, events=("start",), recover=True):
+                tag = element.tag
+                break
+    except etree.XMLSyntaxError as error:
+        raise FileFormatError(f"{path}: not valid XML: {error}", path=path) from error
+    if not isinstance(tag, str):
+        raise FileFormatError(f"{path}: not valid XML: no root element.", path=path)
     if tag == "robot":
         return "urdf"
     if tag == "mujoco":
@@ -198,8 +207,8 @@ def format_of(path: str) -> str:
 def xml_root(path: str) -> Any:
     """The root element of an XML file (lxml), comments left out. Undeclared namespace
     prefixes (``drake:acceleration`` without ``xmlns:drake``: Drake's extensions, which
-    yourdfpy and MuJoCo read) are not errors; anything else that is not well-formed XML is a
-    FileFormatError."""
+    yourdfpy and MuJoCo read) and ``--`` inside a comment are not errors; anything else that is
+    not well-formed XML (a truncated file, a tag that does not close) is a FileFormatError."""
     etree = require("lxml.etree", "robots")  # a dependency of yourdfpy
 
     parser = etree.XMLParser(remove_comments=True, recover=True)
@@ -207,7 +216,13 @@ def xml_root(path: str) -> Any:
         tree = etree.parse(path, parser)
     except etree.XMLSyntaxError as error:  # recover still gives up on some files
         raise FileFormatError(f"{path}: not valid XML: {error}", path=path) from error
-    fatal = [e for e in parser.error_log if e.domain_name != "NAMESPACE"]
+    # Harmless: undeclared prefixes, and "--" inside a comment (read by tinyxml2, thus by
+    # MuJoCo and ROS's urdfdom).
+    fatal = [
+        e
+        for e in parser.error_log
+        if e.domain_name != "NAMESPACE" and e.type_name != "ERR_HYPHEN_IN_COMMENT"
+    ]
     root = tree.getroot()
     if fatal or root is None:
         first = fatal[0] if fatal else None

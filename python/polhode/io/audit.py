@@ -188,20 +188,28 @@ class _Robot:
         for link in links:
             self.members.setdefault(self.roots[link.name], []).append(link.name)
         self.own: dict[str, Body] = {}
+        #: MJCF bodies whose inertial MuJoCo infers from geoms that polhode cannot compute
+        #: (a mesh it does not read, a missing file): their mass is unknown here, so nothing is
+        #: concluded from it.
+        self.unknown: set[str] = set()
         for link in links:
             body = _declared(link)
             if body is None and link.inertial is None and fmt == "mjcf" and infer:
-                try:
-                    body = geometry_body(link, file_density=True)
-                except Exception:  # noqa: BLE001 - a geom that cannot be computed: no mass here
-                    body = None
+                if any(p.error is not None for p in link.parts):
+                    self.unknown.add(link.name)
+                    continue
+                body = geometry_body(link, file_density=True)
             if body is not None:
                 self.own[link.name] = body
         self.placements = to_root(links, self.roots)
 
     def carriers(self, link: Link) -> list[str]:
-        """The other links of the link's part that have mass."""
-        return [n for n in self.members[self.roots[link.name]] if n in self.own and n != link.name]
+        """The other links of the link's part that have mass (or may have: unknown)."""
+        return [
+            n
+            for n in self.members[self.roots[link.name]]
+            if (n in self.own or n in self.unknown) and n != link.name
+        ]
 
     def part(self, link: Link) -> Body | None:
         """The moving part whose first link is ``link``: its links' bodies in its frame."""
@@ -216,6 +224,8 @@ class _Robot:
         """Whether MuJoCo accepts the moving body: its mass and each principal moment at least
         mjMINVAL; for URDF (whose importer fuses fixed links, fusestatic) the part's, for MJCF
         the body's own or one of its jointless descendants' (checked one by one, as MuJoCo)."""
+        if any(n in self.unknown for n in self.members[self.roots[link.name]]):
+            return True  # a mass polhode cannot compute: MuJoCo's to judge
         if self.fmt == "urdf":
             candidates = [self.part(link)]
         else:
@@ -303,7 +313,13 @@ def _audit_link(
     what = "no <inertial>" if link.inertial is None else "mass 0"
     if massless:
         inferred = robot.own.get(link.name) if link.inertial is None else None
-        if inferred is not None:  # MJCF: MuJoCo infers the inertial from the geoms
+        if link.name in robot.unknown:
+            add(
+                "info",
+                "no_inertial",
+                "no <inertial>: MuJoCo infers it from geoms that polhode cannot compute here.",
+            )
+        elif inferred is not None:  # MJCF: MuJoCo infers the inertial from the geoms
             add(
                 "info",
                 "no_inertial",
