@@ -40,6 +40,9 @@ fn watched<T: Send>(
     Ok(result.map_err(CoreError)?)
 }
 
+/// The vertices (N, 3) and faces (M, 3) of [`merge_vertices`].
+type MergedArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
+
 /// A file's vertices at the same position merged (the first kept, in order of appearance), the
 /// faces renumbered and those that then repeat a vertex dropped; a large mesh runs watched
 /// (Ctrl-C stops it).
@@ -48,7 +51,7 @@ pub fn merge_vertices<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>)> {
+) -> PyResult<MergedArrays<'py>> {
     if vertices.shape()[1] != 3 {
         return Err(bad_shape("vertices", "(N, 3)", vertices.shape()));
     }

@@ -19,7 +19,7 @@ pub use frames::{
 pub use mesh::MESH_CHUNK;
 pub use points::POINT_CHUNK;
 pub use solids::{Solid, SOLIDS};
-pub use topology::{merge_vertices, weld_tolerance, WELD_EXPONENT};
+pub use topology::{merge_vertices, weld_tolerance, Merged, WELD_EXPONENT};
 
 use std::ops::Add;
 

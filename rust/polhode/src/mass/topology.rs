@@ -233,6 +233,9 @@ pub(crate) fn merge_exact(vertices: &[[f64; 3]], monitor: Option<&Monitor>) -> R
     Ok(first)
 }
 
+/// The vertices and faces of [`merge_vertices`].
+pub type Merged = (Vec<[f64; 3]>, Vec<[i64; 3]>);
+
 /// A file's vertices at the same position merged (the first of them kept, in the order of
 /// first appearance) and the faces renumbered; faces that then repeat a vertex (of zero area)
 /// are dropped. Looks at `monitor` every [`MESH_CHUNK`] vertices and faces.
@@ -256,7 +259,7 @@ pub fn merge_vertices(
     vertices: &[[f64; 3]],
     faces: &[[i64; 3]],
     monitor: Option<&Monitor>,
-) -> Result<(Vec<[f64; 3]>, Vec<[i64; 3]>)> {
+) -> Result<Merged> {
     let n = vertices.len();
     if n > u32::MAX as usize - 1 {
         return Err(invalid(
@@ -428,9 +431,9 @@ fn weld(
     }
     // Each class named by its smallest vertex index.
     let mut smallest = vec![u32::MAX; order.len()];
-    for j in 0..order.len() {
+    for (j, &(_, i)) in order.iter().enumerate() {
         let r = classes.find(j as u32) as usize;
-        smallest[r] = smallest[r].min(order[j].1);
+        smallest[r] = smallest[r].min(i);
     }
     let mut welded = vec![0u32; boundary.len()];
     for (j, &(_, i)) in order.iter().enumerate() {
