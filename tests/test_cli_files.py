@@ -534,8 +534,12 @@ def test_missing_and_unreadable_files_exit_2_naming_the_file(tmp_path, capsys):
     status, err = run([not_xml], capsys)
     assert status == 2 and str(not_xml) in err and "not valid XML" in err
     broken = os.path.join(DATA, "broken_inertials.urdf")
-    status, err = run([broken], capsys)
+    status, err = run([broken, "--strict"], capsys)
     assert status == 2 and broken in err and "link 'plate_rounded'" in err
+    assert "inertial.inertia" in err and "polhode audit" in err
+    # Read whole: the links a simulator refuses are left out, named in a warning.
+    status, err = run([broken], capsys)
+    assert status == 0 and broken in err and "warning" in err and "'plate_rounded'" in err
     assert "inertial.inertia" in err and "polhode audit" in err
     dummy = tmp_path / "dummy.xyz"
     dummy.write_text("2\nan unknown element\nXx 0 0 0\nC 0 0 1\n")

@@ -26,7 +26,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
-from polhode.errors import ArgumentError, FileFormatError
+from polhode.errors import ArgumentError, FileFormatError, RobotFileWarning
 
 mujoco = pytest.importorskip("mujoco")
 yourdfpy = pytest.importorskip("yourdfpy")
@@ -549,9 +549,9 @@ URDF_EXPECTED = {
     "missing_parallel_axis": [("warning", "parallel_axis")],
     "about_origin": [("warning", "about_origin")],
     "far_origin": [("warning", "origin_far")],
-    "point_mass": [("warning", "small_moment")],
+    "point_mass": [("info", "point_mass")],  # a root: fixed to the world, or fused
     "needle": [("warning", "small_moment")],
-    "massless_frame": [("info", "no_inertial")],
+    "massless_frame": [("info", "frame")],
 }
 
 
@@ -603,7 +603,9 @@ def test_audit_corrected_inertials_are_the_geometry():
     ]:
         path_text = f'<robot name="r"><link name="{name}">{findings[name].corrected}</link></robot>'
         body = ph.io.read_urdf(_write(path_text))[name]
-        assert max(relative_errors(body, *expected)) <= 64 * EPS, name
+        # Rounded to six significant digits of each scale: half a unit of the sixth digit is at
+        # most 5e-6 of the mass, the size, and the largest moment.
+        assert max(relative_errors(body, *expected)) <= 5e-6, name
     # A link whose mass is unusable gets a correction only from a density.
     assert "negative_mass" not in findings
     with_density = {f.link: f for f in ph.io.audit(BROKEN_URDF, density=1000.0) if f.corrected}
@@ -720,13 +722,17 @@ def test_bad_geometry_sizes_are_named(text, suffix, field, fragment):
     a numpy warning and a mass of inf."""
     path = _write(text, suffix)
     if suffix == ".xml":
-
-        def read(path, density):
-            return ph.io.read_mjcf(path, density=density, as_written=True)
+        with pytest.raises(FileFormatError) as error:
+            ph.io.read_mjcf(path, density=1000.0, as_written=True)
     else:
-        read = ph.io.read_urdf
-    with pytest.raises(FileFormatError) as error:
-        read(path, density=1000.0)
+        with pytest.raises(FileFormatError) as error:
+            ph.io.read_urdf(path, density=1000.0, strict=True)
+        # Read whole, the link is left out, named with the field in the file's one warning.
+        with pytest.warns(RobotFileWarning) as caught:
+            links = ph.io.read_urdf(path, density=1000.0)
+        assert len(caught) == 1 and caught[0].message.links == links.left_out
+        assert list(links) == [] and links.left_out["a"].startswith(field + ": ")
+        assert fragment in links.left_out["a"]
     assert fragment in str(error.value) and error.value.field == field
     assert "`mass`" not in str(error.value)
 
@@ -763,10 +769,18 @@ def test_a_position_that_is_not_finite_names_the_body_and_geom(body):
 def test_urdf_the_checker_refuses_what_yourdfpy_cannot_read(text, link, field):
     """Numbers with commas passed the checker and a robot without a name was not checked:
     yourdfpy then failed ("could not convert string to float", KeyError: 'name') and the
-    error had neither the link nor the field."""
+    error had neither the link nor the field. strict=True raises naming them; read whole,
+    the link is left out (the commas), or the file read with a warning (no robot name)."""
+    path = _write(text)
     with pytest.raises(FileFormatError) as error:
-        ph.io.read_urdf(_write(text))
+        ph.io.read_urdf(path, strict=True)
     assert error.value.link == link and error.value.field == field
+    with pytest.warns(RobotFileWarning, match=field.replace(".", r"\.") if link else "no name"):
+        links = ph.io.read_urdf(path)
+    if link is not None:
+        assert links.left_out[link].startswith(field + ": ") and link not in links
+    else:
+        assert links.left_out == {} and links.frames == {"a": "no <inertial>: the root"}
 
 
 def test_audit_of_upkie():
@@ -785,7 +799,8 @@ def test_audit_of_upkie():
     assert declared[2, 2] == pytest.approx(m * r * r / 2, rel=1e-12)
     femur = ET.parse(upkie_urdf()).getroot().find("link[@name='left_femur']")
     assert float(femur.find("collision/geometry/cylinder").get("length")) == 0.26
-    points = sorted(k for k, v in by_link.items() if ("warning", "small_moment") in v)
+    # Point masses on fixed joints and as the root: harmless once fused (info).
+    points = sorted(k for k, v in by_link.items() if ("info", "point_mass") in v)
     assert len(points) == 8 and "base" in points
     assert sum(v == [("ok", "ok")] for v in by_link.values()) == 29
 
@@ -834,10 +849,22 @@ def test_broken_urdf_names_the_file_link_and_field(tmp_path, inner, link, field)
     path = tmp_path / "broken.urdf"
     path.write_text(f'<robot name="r">{inner}</robot>')
     with pytest.raises(FileFormatError) as caught:
-        ph.io.read_urdf(path)
+        ph.io.read_urdf(path, strict=True)
     error = caught.value
     assert (error.path, error.link, error.field) == (str(path), link, field)
     assert str(path) in str(error) and f"'{link}'" in str(error) and field in str(error)
+    if field == "link.name":  # two links of one name: not a robot description
+        with pytest.raises(FileFormatError):
+            ph.io.read_urdf(path)
+        return
+    # Read whole: the link is left out, named with its field in the file's one warning (a
+    # geometry that cannot be read matters only where the geometry is used).
+    used = field.startswith(("collision", "visual"))
+    with pytest.warns(RobotFileWarning) as warned:
+        links = ph.io.read_urdf(path, density=1.0 if used else None)
+    assert len(warned) == 1 and str(path) in str(warned[0].message)
+    assert warned[0].message.links == links.left_out
+    assert link not in links and links.left_out[link].startswith(field + ": ")
 
 
 def test_urdf_missing_mesh_with_density(tmp_path):
@@ -848,13 +875,16 @@ def test_urdf_missing_mesh_with_density(tmp_path):
     )
     assert ph.io.read_urdf(path) == {}  # without density the geometry is not read
     with pytest.raises(FileFormatError) as caught:
-        ph.io.read_urdf(path, density=1.0)
+        ph.io.read_urdf(path, density=1.0, strict=True)
     assert caught.value.link == "m" and caught.value.field == "collision[0].geometry.mesh.filename"
+    with pytest.warns(RobotFileWarning, match="nowhere.stl"):
+        links = ph.io.read_urdf(path, density=1.0)
+    assert links == {} and links.left_out["m"].startswith("collision[0].geometry.mesh.filename")
     # The audit: a massless link, and a geometry it cannot compute.
     findings = ph.io.audit(path)
     assert [(f.severity, f.check) for f in findings] == [
-        ("warning", "geometry_error"),
-        ("info", "no_inertial"),
+        ("warning", "geometry_error"),  # a missing file: warning, once for the link
+        ("info", "frame"),  # the root
     ]
     assert "nowhere.stl" in findings[0].message
 
@@ -975,13 +1005,13 @@ def test_cli_audit_exit_status_and_table():
     )
     assert "corrected inertial of swapped_products" in result.stdout
     assert "<inertia ixx=" in result.stdout
-    assert "12 links: 3 errors, 7 warnings" in result.stdout
+    assert "12 links: 3 errors, 6 warnings" in result.stdout
     ok = run_cli(upkie_urdf())
     assert ok.returncode == 0, ok.stderr
-    assert "41 links: 0 errors, 12 warnings" in ok.stdout
+    assert "41 links: 0 errors, 4 warnings" in ok.stdout
     # The femurs' and tibias' tensors differ from their cylinders by 0.98: within --rtol 2.
     loose = run_cli(upkie_urdf(), "--rtol", "2")
-    assert "41 links: 0 errors, 8 warnings" in loose.stdout
+    assert "41 links: 0 errors, 0 warnings" in loose.stdout
 
 
 @pytest.mark.parametrize("name", ["missing.urdf", "not_xml.urdf"])

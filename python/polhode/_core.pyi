@@ -16,6 +16,7 @@ __all__ = [
     "check_rotor",
     "check_torque",
     "free_rotation",
+    "merge_vertices",
     "point_masses_inertia",
     "principal",
     "simulate",
@@ -68,6 +69,9 @@ class MassProperties:
     def angular_momentum_body(self, omega: NDArray[np.float64]) -> NDArray[np.float64]: ...
     def kinetic_energy(self, omega: NDArray[np.float64]) -> float: ...
 
+def merge_vertices(
+    vertices: NDArray[np.float64], faces: NDArray[np.int64]
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]: ...
 def point_masses_inertia(
     masses: NDArray[np.float64], positions: NDArray[np.float64] | NDArray[np.float32]
 ) -> NDArray[np.float64]: ...

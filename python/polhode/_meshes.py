@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode import _core
 from polhode._coerce import as_flag, as_scale, density_or_mass
 from polhode._files import existing, fspath, require
 from polhode.errors import FileFormatError, PolhodeError
@@ -37,15 +38,17 @@ MESH_FORMATS = ("stl", "obj", "ply", "off", "gltf", "glb")
 def merge_vertices(
     vertices: NDArray[np.float64], faces: NDArray[np.int64]
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """Vertices at exactly the same position merged into one (STL repeats every vertex per
-    triangle; OBJ and glTF split vertices along texture seams), and the triangles that then
-    repeat a vertex (zero area) dropped."""
+    """Vertices at exactly the same position merged into one, the first kept (STL repeats every
+    vertex per triangle; OBJ and glTF split vertices along texture seams), and the triangles
+    that then repeat a vertex (zero area) dropped. The core's hash table (O(vertices), Ctrl-C
+    stops it on a large mesh); vertices that differ by exporters' noise are merged later, for
+    the closedness check only (:meth:`polhode.Body.mesh`)."""
     if len(vertices) == 0:
         return vertices, faces
-    unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
-    f = np.asarray(inverse).reshape(-1)[faces]
-    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])
-    return np.ascontiguousarray(unique), np.ascontiguousarray(f[keep], dtype=np.int64)
+    return _core.merge_vertices(
+        np.ascontiguousarray(vertices, dtype=np.float64),
+        np.ascontiguousarray(faces, dtype=np.int64),
+    )
 
 
 def mesh_parts(

@@ -11,7 +11,7 @@ from polhode import _core, _display, _formats, _shapes, _spatial
 from polhode._atoms import atom_masses, atoms_of
 from polhode._coerce import as_array, as_faces, as_flag, as_rotation_matrix, as_scalar
 from polhode._meshes import read_bodies
-from polhode.errors import ArgumentError, ShapeError
+from polhode.errors import ArgumentError, NonPositiveError, ShapeError
 from polhode.principal_axes import Principal
 
 __all__ = ["SPATIAL_CONVENTIONS", "Body"]
@@ -85,7 +85,14 @@ class Body:
         (mass per volume, or per area with ``shell=True``) and ``mass``.
 
         A solid mesh must be closed and consistently wound (every edge traversed once in each
-        direction); nested closed shells (a cavity wound inward) add with their signs. An
+        direction). For that check only, vertices at the same position are one vertex, and so
+        are vertices within 2^-40 (9.1e-13) of the bounding-box diagonal of each other in every
+        coordinate: a triangle soup closes, and so does a file whose exporter wrote a 0 as 3e-17
+        in the next facet, while a gap of 1e-11 of the size does not (real edges are longer
+        than 1e-9 of it); the integrals use the vertices as given. An open mesh's error says
+        where the openings are, how long and how wide, and tells a crack (triangles that do not
+        share vertices) from a hole. Nested closed shells (a cavity wound inward) add with their
+        signs. An
         inside-out mesh (negative volume) raises unless ``fix_winding=True``, which reverses
         every face. With ``shell=True`` the mass lies on the surface (uniform surface density,
         thickness -> 0), and the mesh need not be closed.
@@ -117,7 +124,19 @@ class Body:
     ) -> Body:
         """A body from a ``trimesh.Trimesh`` (or anything with ``vertices`` and ``faces``).
 
-        See :meth:`mesh`; trimesh's own ``density`` is not used: give ``density`` or ``mass``.
+        See :meth:`mesh`. Without ``density`` and ``mass``, a solid takes the mesh's own
+        ``density`` (``mesh.density``: the one set on it, else trimesh's default 1.0, as
+        trimesh's own ``mesh.mass_properties`` does); a shell needs ``density`` (per area) or
+        ``mass``.
+
+        Examples
+        --------
+        >>> import trimesh
+        >>> import polhode as ph
+        >>> box = trimesh.creation.box(extents=[0.2, 0.1, 0.05])
+        >>> box.density = 2700.0                       # aluminium, kg/m^3
+        >>> round(ph.Body.from_trimesh(box).mass, 12)  # 2700 x 0.001 m^3
+        2.7
         """
         try:
             vertices, faces = mesh.vertices, mesh.faces
@@ -126,6 +145,21 @@ class Body:
                 "Expected `mesh` to have `vertices` and `faces` (a trimesh.Trimesh), "
                 f"got {type(mesh).__name__}."
             ) from error
+        if density is None and mass is None and not as_flag("shell", shell):
+            own = getattr(mesh, "density", None)
+            if own is None:
+                raise ArgumentError(
+                    "give exactly one of `density` and `mass` (the mesh has no `density` of "
+                    "its own), got neither.",
+                    argument="density",
+                )
+            density = as_scalar("density", own)
+            if not (np.isfinite(density) and density > 0):
+                raise NonPositiveError(
+                    f"Expected the mesh's own `density` (mesh.density) to be positive and "
+                    f"finite, got {density}; give `density` or `mass`.",
+                    argument="density",
+                )
         return cls.mesh(vertices, faces, density, mass, shell, fix_winding)
 
     @classmethod

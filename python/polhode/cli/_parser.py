@@ -208,6 +208,17 @@ def build_parser() -> argparse.ArgumentParser:
         "--fix-winding", action="store_true", help="mesh: turn an inside-out mesh right way out"
     )
     inertia_parser.add_argument(
+        "--merge-fixed",
+        action="store_true",
+        help="URDF and MJCF: one row per moving part, every link on a fixed joint (MJCF: every body without joints that MuJoCo fuses) fused into its parent",
+    )
+    inertia_parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="URDF and MJCF: refuse the file (exit status 2) at the first link a simulator would refuse, "
+        "instead of leaving it out with a warning",
+    )
+    inertia_parser.add_argument(
         "--masses",
         choices=tuple(MASS_SOURCES),
         help="molecule: the atomic masses, the most abundant isotope's (default) or the "

@@ -8,6 +8,7 @@ import csv
 import json
 import os
 import sys
+import warnings
 from typing import Any
 
 import numpy as np
@@ -29,6 +30,8 @@ INERTIA_OPTIONS = {
     "--scale": ("scale", ("mesh",)),
     "--shell": ("shell", ("mesh",)),
     "--fix-winding": ("fix_winding", ("mesh",)),
+    "--merge-fixed": ("merge_fixed", ("urdf",)),
+    "--strict": ("strict", ("urdf",)),
     "--masses": ("masses", ("molecule",)),
     "--unit": ("unit", ("molecule",)),
     "--format": ("format", ("molecule",)),
@@ -263,12 +266,39 @@ def _read_inertia(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
     elif kind in ("urdf", "mjcf"):
         from polhode.io import read_mjcf, read_urdf
 
-        if kind == "urdf":
-            links = read_urdf(args.file, density=args.density, mass=args.mass)
-        elif args.density is None and args.mass is None:
-            links = read_mjcf(args.file)  # as MuJoCo compiles it
-        else:  # the file's masses replaced: as written
-            links = read_mjcf(args.file, density=args.density, mass=args.mass, as_written=True)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ph.RobotFileWarning)
+            if kind == "urdf":
+                links = read_urdf(
+                    args.file,
+                    density=args.density,
+                    mass=args.mass,
+                    merge_fixed=bool(args.merge_fixed),
+                    strict=bool(args.strict),
+                )
+            elif args.density is None and args.mass is None:  # as MuJoCo compiles it
+                links = read_mjcf(
+                    args.file, merge_fixed=bool(args.merge_fixed), strict=bool(args.strict)
+                )
+            else:  # the file's masses replaced: as written
+                links = read_mjcf(
+                    args.file, density=args.density, mass=args.mass, as_written=True
+                )
+        for warning in caught:
+            if issubclass(warning.category, ph.RobotFileWarning):
+                print(
+                    f"polhode inertia: warning: {warning.message} (`polhode audit "
+                    f"{args.file}` checks every link.)",
+                    file=sys.stderr,
+                )
+            else:  # not ours: through the filters again
+                warnings.warn_explicit(
+                    warning.message, warning.category, warning.filename, warning.lineno
+                )
+        result["frames"] = dict(getattr(links, "frames", {}))
+        result["left_out"] = dict(getattr(links, "left_out", {}))
+        if args.merge_fixed:
+            result["merged"] = dict(getattr(links, "merged", {}))
         result["links"] = {name: _properties(b, args) for name, b in links.items()}
     else:
         body, series = _molecule(args, result)

@@ -4,19 +4,20 @@ its geometry), the bodies made of them, and which format a file is."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._files import existing
+from polhode._files import existing, require
 from polhode.bodies import Body
 from polhode.errors import ArgumentError, FileFormatError, PolhodeError
 
 __all__ = [
     "Inertial",
     "Link",
+    "Note",
     "Part",
     "declared_body",
     "format_of",
@@ -49,13 +50,39 @@ class Part:
     density: float = 1.0
 
 
+@dataclass(frozen=True)
+class Note:
+    """Something a reader found about a link that :func:`polhode.io.audit` reports as a finding
+    of its own (``severity``, ``check``, ``message``, ``corrected``): the hook through which a
+    format's reader says what only it knows (e.g. how MuJoCo's compiler changes a body's
+    inertial)."""
+
+    severity: str
+    check: str
+    message: str
+    corrected: str | None = None
+
+
 @dataclass
 class Link:
-    """A link (URDF) or body (MJCF): its declared inertial, if any, and its geometry."""
+    """A link (URDF) or body (MJCF): its declared inertial, if any, its geometry, and how it
+    hangs on its parent.
+
+    ``joint`` is ``"root"`` (no parent), ``"fixed"`` (welded to its parent: a URDF fixed joint,
+    an MJCF body without joints) or ``"moving"``; ``parent`` names the parent link, and
+    ``origin`` is the (rotation, offset) of the link's frame in its parent's, ``x_parent = R
+    x_link + p`` (None where unknown). ``problem`` is ``(field, message)`` when the declared
+    inertial cannot be read at all (a missing ``<inertia>``, two ``<inertial>`` elements, a
+    number that is not one); ``notes`` are findings for the audit."""
 
     name: str
     inertial: Inertial | None
     parts: list[Part]
+    joint: str = "moving"
+    parent: str | None = None
+    origin: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+    problem: tuple[str, str] | None = None
+    notes: list[Note] = field(default_factory=list)
 
 
 def declared_body(path: str, kind: str, link: Link) -> Body:
@@ -154,18 +181,20 @@ def symmetric(tensor: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def format_of(path: str) -> str:
-    """'urdf' or 'mjcf', by the root element of the XML."""
-    import xml.etree.ElementTree as ET
-
+    """'urdf' or 'mjcf', by the root element of the XML (undeclared namespace prefixes, such
+    as Drake's ``drake:`` in URDF files, do not matter here)."""
     existing(path)
-    try:
-        for _, element in ET.iterparse(path, events=("start",)):
-            tag = element.tag
-            break
-        else:
-            raise FileFormatError(f"{path}: an empty XML file.", path=path)
-    except ET.ParseError as error:
+    etree = require("lxml.etree", "robots")  # a dependency of yourdfpy
+    tag = None
+    try:  # the first start tag only: the readers (lxml for URDF, MuJoCo for MJCF) judge the rest
+        with open(path, "rb") as handle:
+            for _, element in etree.iterparse(handle, events=("start",), recover=True):
+                tag = element.tag
+                break
+    except etree.XMLSyntaxError as error:
         raise FileFormatError(f"{path}: not valid XML: {error}", path=path) from error
+    if not isinstance(tag, str):
+        raise FileFormatError(f"{path}: not valid XML: no root element.", path=path)
     if tag == "robot":
         return "urdf"
     if tag == "mujoco":
@@ -173,3 +202,31 @@ def format_of(path: str) -> str:
     raise FileFormatError(
         f"{path}: expected a URDF (<robot>) or MJCF (<mujoco>) file, got <{tag}>.", path=path
     )
+
+
+def xml_root(path: str) -> Any:
+    """The root element of an XML file (lxml), comments left out. Undeclared namespace
+    prefixes (``drake:acceleration`` without ``xmlns:drake``: Drake's extensions, which
+    yourdfpy and MuJoCo read) and ``--`` inside a comment are not errors; anything else that is
+    not well-formed XML (a truncated file, a tag that does not close) is a FileFormatError."""
+    etree = require("lxml.etree", "robots")  # a dependency of yourdfpy
+
+    parser = etree.XMLParser(remove_comments=True, recover=True)
+    try:
+        tree = etree.parse(path, parser)
+    except etree.XMLSyntaxError as error:  # recover still gives up on some files
+        raise FileFormatError(f"{path}: not valid XML: {error}", path=path) from error
+    # Harmless: undeclared prefixes, and "--" inside a comment (read by tinyxml2, thus by
+    # MuJoCo and ROS's urdfdom).
+    fatal = [
+        e
+        for e in parser.error_log
+        if e.domain_name != "NAMESPACE" and e.type_name != "ERR_HYPHEN_IN_COMMENT"
+    ]
+    root = tree.getroot()
+    if fatal or root is None:
+        first = fatal[0] if fatal else None
+        where = f", line {first.line}, column {first.column}" if first is not None else ""
+        what = first.message if first is not None else "no root element"
+        raise FileFormatError(f"{path}: not valid XML: {what}{where}", path=path)
+    return root

@@ -143,7 +143,9 @@ def mjcf_links(path: str) -> tuple[list[Link], bool]:
     # An unnamed body is "body K" (K its MuJoCo id), unless a body is named so: then
     # "body K (unnamed)" (the two shared a key, and one of them was lost without a word).
     taken = {body.name for body in spec.bodies if body.name}
-    for index, body in enumerate(spec.bodies):
+    bodies = list(spec.bodies)
+    names: list[str | None] = [None]  # the world's
+    for index, body in enumerate(bodies):
         if index == 0:
             continue  # the world
         name = body.name
@@ -151,6 +153,16 @@ def mjcf_links(path: str) -> tuple[list[Link], bool]:
             name = f"body {index}"
             while name in taken:
                 name += " (unnamed)"
+        names.append(name)
+        # How it hangs on its parent (for audit): moving with joints, else welded to it (the
+        # world's children without joints too, with no parent link).
+        up = next(i for i, b in enumerate(bodies[:index]) if b == body.parent)
+        joint = "moving" if len(body.joints) else "fixed"
+        try:
+            turn = _quat_matrix(_mjcf_quat(spec, body.quat, body.alt))
+            origin = (turn, np.asarray(body.pos, dtype=float))
+        except ValueError:  # a zero quaternion: the reader says so where it matters
+            origin = None
         inertial = None
         if body.explicitinertial:
             full = np.asarray(body.fullinertia, dtype=float)
@@ -199,7 +211,7 @@ def mjcf_links(path: str) -> tuple[list[Link], bool]:
                 continue
             if part is not None:
                 parts.append(Part(label, part, None, density))
-        links.append(Link(name, inertial, parts))
+        links.append(Link(name, inertial, parts, joint, names[up], origin))
     return links, infer
 
 

@@ -26,8 +26,10 @@ def read_mesh(
     Reads STL (ascii and binary), OBJ, PLY, OFF, glTF and GLB (by the extension) with
     trimesh's loaders; the mass properties are polhode's exact mesh integrals. Each part is
     placed by the file's scene graph (a glTF node's transform; an OBJ file has one part per
-    object), then scaled. Vertices at exactly the same position are merged, so that a triangle
-    soup (STL) closes.
+    object), then scaled. Vertices at the same position are merged, so that a triangle soup
+    (STL) closes, and vertices that differ by exporters' noise (within 2^-40 of the part's
+    bounding-box diagonal) count as one for the check that a solid is closed (see
+    :meth:`polhode.Body.mesh`).
 
     Parameters
     ----------

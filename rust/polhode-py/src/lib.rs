@@ -22,7 +22,7 @@ mod _core {
     use crate::frames::point_masses_inertia;
 
     #[pymodule_export]
-    use crate::mass::{principal, PyMassProperties};
+    use crate::mass::{merge_vertices, principal, PyMassProperties};
 
     #[pymodule_export]
     use crate::motion::{check_motion, free_rotation, simulate};

@@ -40,6 +40,44 @@ fn watched<T: Send>(
     Ok(result.map_err(CoreError)?)
 }
 
+/// The vertices (N, 3) and faces (M, 3) of [`merge_vertices`].
+type MergedArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
+
+/// A file's vertices at the same position merged (the first kept, in order of appearance), the
+/// faces renumbered and those that then repeat a vertex dropped; a large mesh runs watched
+/// (Ctrl-C stops it).
+#[pyfunction]
+pub fn merge_vertices<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+) -> PyResult<MergedArrays<'py>> {
+    if vertices.shape()[1] != 3 {
+        return Err(bad_shape("vertices", "(N, 3)", vertices.shape()));
+    }
+    if faces.shape()[1] != 3 {
+        return Err(bad_shape("faces", "(M, 3)", faces.shape()));
+    }
+    let (vertices, faces) = match (vertices.as_slice(), faces.as_slice()) {
+        (Ok(v), Ok(f)) => (v.as_chunks::<3>().0, f.as_chunks::<3>().0),
+        _ => {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "Expected C-contiguous `vertices` and `faces`.",
+            ))
+        }
+    };
+    let long = vertices.len() > 2 * polhode::mass::MESH_CHUNK;
+    let (merged, renumbered) = watched(py, long, |monitor| {
+        polhode::mass::merge_vertices(vertices, faces, monitor)
+    })?;
+    let rows = (merged.len(), renumbered.len());
+    let v = Array::from_shape_vec((rows.0, 3), merged.into_flattened())
+        .unwrap_or_else(|_| unreachable!("3 numbers per row"));
+    let f = Array::from_shape_vec((rows.1, 3), renumbered.into_flattened())
+        .unwrap_or_else(|_| unreachable!("3 numbers per row"));
+    Ok((v.into_pyarray(py), f.into_pyarray(py)))
+}
+
 /// A number as Python's `repr` would show it, roughly (never the hundreds of digits of `{}` for
 /// 1e300).
 fn number(x: f64) -> String {

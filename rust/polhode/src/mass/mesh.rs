@@ -12,7 +12,9 @@
 //! per lane, the blocks added with TwoSum, fixed chunks combined in parallel and then in order,
 //! lane by lane), and the shift from `p` to the centre of mass is small: a mesh 1e8 away from
 //! the origin keeps its digits (docs/architecture.md, Numerics). The check that a solid mesh is
-//! closed and consistently wound runs beside the integration (`rayon::join`).
+//! closed and consistently wound (`super::topology`: vertices at the same position, or within
+//! `2^-40` of the mesh's size, are one vertex there) runs beside the integration
+//! (`rayon::join`); the integrals use the vertices as given.
 
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -33,7 +35,7 @@ const CHUNK: usize = 1 << 12;
 pub const MESH_CHUNK: usize = 1 << 16;
 
 /// A look at `monitor`, if any.
-fn look(monitor: Option<&Monitor>) -> Result<()> {
+pub(super) fn look(monitor: Option<&Monitor>) -> Result<()> {
     monitor.map_or(Ok(()), Monitor::look)
 }
 
@@ -214,7 +216,7 @@ fn chunk_sums<const SHELL: bool>(points: &[[f64; 3]], faces: &[[i64; 3]]) -> Lan
     sums
 }
 
-fn invalid(name: impl Into<String>, reason: String) -> Error {
+pub(super) fn invalid(name: impl Into<String>, reason: String) -> Error {
     Error::InvalidArgument {
         name: name.into(),
         reason,
@@ -318,130 +320,6 @@ fn check_input(vertices: &[[f64; 3]], faces: &[[i64; 3]], shell: bool) -> Result
                 ),
             ));
         }
-    }
-    Ok(())
-}
-
-/// A closed, consistently wound mesh: every directed edge `u -> v` is used by exactly one face
-/// and its reverse `v -> u` by exactly one other.
-///
-/// Each directed edge is filed under its smaller vertex `min(u, v)` as `max(u, v)` plus one bit
-/// for its direction (a counting sort, O(faces + vertices)); each small bucket is then sorted and
-/// must consist of pairs `(w, forward), (w, backward)`. Faces repeat no vertex and indices are in
-/// range (checked before).
-fn check_closed(faces: &[[i64; 3]], vertex_count: usize, monitor: Option<&Monitor>) -> Result<()> {
-    let edges = |f: &[i64; 3]| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])];
-    let mut offsets = vec![0u32; vertex_count + 1];
-    for block in faces.chunks(MESH_CHUNK) {
-        look(monitor)?;
-        for f in block {
-            for (u, v) in edges(f) {
-                offsets[u.min(v) as usize + 1] += 1;
-            }
-        }
-    }
-    for i in 0..vertex_count {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut cursor = offsets.clone();
-    let mut entries = vec![0u32; 3 * faces.len()];
-    for block in faces.chunks(MESH_CHUNK) {
-        look(monitor)?;
-        for f in block {
-            for (u, v) in edges(f) {
-                let slot = &mut cursor[u.min(v) as usize];
-                entries[*slot as usize] = ((u.max(v) as u32) << 1) | u32::from(u > v);
-                *slot += 1;
-            }
-        }
-    }
-    drop(cursor);
-    // Disjoint ranges of vertices (with their entries), checked in parallel.
-    let ranges = 4 * rayon::current_num_threads().max(1);
-    let step = vertex_count.div_ceil(ranges).max(1);
-    let mut parts: Vec<(usize, &mut [u32])> = Vec::with_capacity(ranges);
-    let mut rest: &mut [u32] = &mut entries;
-    let mut first = 0;
-    while first < vertex_count {
-        let last = (first + step).min(vertex_count);
-        let len = (offsets[last] - offsets[first]) as usize;
-        let (part, tail) = rest.split_at_mut(len);
-        parts.push((first, part));
-        rest = tail;
-        first = last;
-    }
-    // Per range: the first directed edge used twice, and the first edge without its reverse.
-    type Found = (Option<(u64, u64)>, Option<(u64, u64)>);
-    let found: Vec<Result<Found>> = parts
-        .into_par_iter()
-        .map(|(first, part)| {
-            let (mut repeated, mut unpaired) = (None, None);
-            let mut start = 0usize;
-            let base = offsets[first] as usize;
-            let mut u = first;
-            while start < part.len() {
-                if (u - first) % MESH_CHUNK == 0 {
-                    look(monitor)?;
-                }
-                let end = offsets[u + 1] as usize - base;
-                let bucket = &mut part[start..end];
-                bucket.sort_unstable();
-                let directed = |key: u32| {
-                    let (w, backward) = (u64::from(key >> 1), key & 1 == 1);
-                    if backward {
-                        (w, u as u64)
-                    } else {
-                        (u as u64, w)
-                    }
-                };
-                let mut i = 0;
-                while i < bucket.len() {
-                    let key = bucket[i];
-                    let paired = i + 1 < bucket.len() && bucket[i + 1] == key ^ 1 && key & 1 == 0;
-                    if i + 1 < bucket.len() && bucket[i + 1] == key {
-                        repeated = repeated.or(Some(directed(key)));
-                    }
-                    if paired {
-                        i += 2;
-                        // A third use of the same undirected edge repeats one direction.
-                        if i < bucket.len() && bucket[i] >> 1 == key >> 1 {
-                            repeated = repeated.or(Some(directed(bucket[i])));
-                        }
-                    } else {
-                        if !(i + 1 < bucket.len() && bucket[i + 1] >> 1 == key >> 1) {
-                            unpaired = unpaired.or(Some(directed(key)));
-                        }
-                        i += 1;
-                    }
-                }
-                if repeated.is_some() {
-                    break;
-                }
-                start = end;
-                u += 1;
-            }
-            Ok((repeated, unpaired))
-        })
-        .collect();
-    let found = found.into_iter().collect::<Result<Vec<Found>>>()?;
-    if let Some((u, v)) = found.iter().find_map(|f| f.0) {
-        return Err(invalid(
-            "faces",
-            format!(
-                "the directed edge {u} -> {v} is used by more than one face: the winding is \
-                 inconsistent (a flipped face) or the edge is shared by more than two faces \
-                 (a non-manifold mesh). Every edge must be traversed once in each direction."
-            ),
-        ));
-    }
-    if let Some((u, v)) = found.iter().find_map(|f| f.1) {
-        return Err(invalid(
-            "faces",
-            format!(
-                "the mesh is not closed: the edge {u} -> {v} has no face traversing it back \
-                 ({v} -> {u}), a hole or a boundary. Use shell=True for an open surface."
-            ),
-        ));
     }
     Ok(())
 }
@@ -584,7 +462,10 @@ impl MassProperties {
     /// `density` (mass per volume, or per area for a shell) and `mass` is given.
     ///
     /// A solid mesh must be closed and consistently wound: every directed edge `u -> v` used by
-    /// exactly one face and `v -> u` by exactly one other. Nested closed shells (a hollow body,
+    /// exactly one face and `v -> u` by exactly one other, where vertices at the same position,
+    /// or within [`weld_tolerance`](super::weld_tolerance) (`2^-40` of the bounding-box
+    /// diagonal) of each other, count as one vertex (files repeat vertices, and exporters write
+    /// a 0 as 3e-17); the integrals use the vertices as given. Nested closed shells (a hollow body,
     /// the cavity wound inward) add with their signs. A negative total volume (an inside-out
     /// mesh) is an error unless `fix_winding` is set, which reverses every face. A shell needs
     /// neither closedness nor consistent winding.
@@ -654,7 +535,7 @@ impl MassProperties {
                 if shell {
                     Ok(())
                 } else {
-                    check_closed(faces, vertices.len(), monitor)
+                    super::topology::check_closed(vertices, faces, monitor)
                 }
             },
             || integrate(vertices, faces, shell, monitor),

@@ -11,6 +11,7 @@ mod frames;
 mod mesh;
 mod points;
 mod solids;
+mod topology;
 
 pub use frames::{
     point_masses_inertia, point_masses_inertia_monitored, Position, FRAME_POINTS_CHUNK,
@@ -18,6 +19,7 @@ pub use frames::{
 pub use mesh::MESH_CHUNK;
 pub use points::POINT_CHUNK;
 pub use solids::{Solid, SOLIDS};
+pub use topology::{merge_vertices, weld_tolerance, Merged, WELD_EXPONENT};
 
 use std::ops::Add;
 
