@@ -210,12 +210,14 @@ def build_parser() -> argparse.ArgumentParser:
     inertia_parser.add_argument(
         "--merge-fixed",
         action="store_true",
-        help="URDF and MJCF: one row per moving part, every link on a fixed joint (MJCF: every body without joints that MuJoCo fuses) fused into its parent",
+        help="URDF and MJCF: one row per moving part, every link on a fixed joint (MJCF: every "
+        "body without joints that MuJoCo fuses) fused into its parent",
     )
     inertia_parser.add_argument(
         "--strict",
         action="store_true",
-        help="URDF and MJCF: refuse the file (exit status 2) at the first link a simulator would refuse, "
+        help="URDF and MJCF: refuse the file (exit status 2) at the first link a simulator "
+        "would refuse, "
         "instead of leaving it out with a warning",
     )
     inertia_parser.add_argument(
