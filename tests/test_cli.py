@@ -125,7 +125,8 @@ def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
     assert abs(printed / period - 1) < 1e-9
     with path.open() as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"]
+    assert rows[0] == ["t (s)", "omega_1 (rad/s)", "omega_2 (rad/s)", "omega_3 (rad/s)", "qx", "qy",
+                       "qz", "qw"]
     data = np.array(rows[1:], dtype=float)
     assert data.shape == (11, 8)
     np.testing.assert_allclose(data[0, 1:4], w, rtol=1e-14)
