@@ -347,3 +347,18 @@ print("RESULT", seen["loaded"] == after, bool(after), "matplotlib.figure" in see
     assert plotted.returncode == 0, plotted.stderr
     # With --plot, matplotlib is imported while the arguments are checked, before the run.
     assert plotted.stdout.split("RESULT")[1].split()[2] == "True"
+
+
+def test_a_bare_polhode_prints_its_help_and_writes_nothing(tmp_path, capsys, monkeypatch):
+    """It ran the whole demo and wrote eight files into ./polhode-demo."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(ph, "simulate", lambda *a, **k: pytest.fail("no run"))
+    assert main([]) == 2
+    out, err = capsys.readouterr()
+    assert out.startswith("usage: polhode") and "{demo,spin,audit,inertia,bench}" in out
+    assert "numbered 1, 2, 3 in ascending order of moment" in " ".join(out.split())
+    assert err == "polhode: error: no command given (`polhode demo` runs the demo)\n"
+    assert list(tmp_path.iterdir()) == []
+    done = subprocess.run([sys.executable, "-m", "polhode"], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=120)
+    assert done.returncode == 2 and done.stdout == out and list(tmp_path.iterdir()) == []

@@ -1,6 +1,7 @@
 """The ``polhode`` command line: ``polhode demo``, ``polhode spin``, ``polhode inertia``,
-``polhode audit`` and ``polhode bench``; a bare ``polhode`` prints the help and exits with
-status 2 (no command: a usage error, as argparse has it), writing nothing.
+``polhode audit`` and ``polhode bench``; a bare ``polhode`` prints the help, and on stderr that
+no command was given, and exits with status 2 (a usage error, as argparse has it), writing
+nothing.
 
 One module per command (``demo``, ``spin``, ``inertia``, ``audit``, ``bench``: each has its
 ``run(args)``), the parser apart (``_parser``), and what they share in ``_common`` (UsageError,
@@ -21,7 +22,7 @@ __all__ = ["main"]
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status: 0, 2 for bad arguments (with a message on
-    stderr, never a traceback) or no command (the help on stdout), 1 when writing an output
+    stderr, never a traceback) or no command (the help on stdout, the error on stderr), 1 when writing an output
     fails, 130 on Ctrl-C, 141 (as a shell reports SIGPIPE) when the reader of the output goes
     away, as in ``polhode ... | head``."""
     try:
@@ -41,6 +42,7 @@ def _main(argv: list[str] | None) -> int:
         return stop.code if isinstance(stop.code, int) else 0 if stop.code is None else 2
     if args.command is None:
         parser.print_help()
+        print("polhode: error: no command given (`polhode demo` runs the demo)", file=sys.stderr)
         return 2
     try:
         result: int = args.run(args)
