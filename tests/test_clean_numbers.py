@@ -41,8 +41,9 @@ def same_double(text: str, value: float) -> bool:
 def doubles(count: int = 20000) -> np.ndarray:
     rng = np.random.default_rng(29)
     bits = rng.integers(0, 2**63 - 1, size=count, dtype=np.int64).view(np.float64)
-    decimals = [round(float(x), int(k)) for x, k in
-                zip(rng.uniform(-1e3, 1e3, size=count), rng.integers(0, 12, size=count), strict=True)]
+    places = rng.integers(0, 12, size=count)
+    decimals = [round(float(x), int(k))
+                for x, k in zip(rng.uniform(-1e3, 1e3, size=count), places, strict=True)]
     special = [0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 1.7976931348623157e308,
                0.1, 0.010000000000000002, 5.000000000000002, 0.04000000000000001, 1e-5, 1e16,
                123456789012345680.0, -1.5]

@@ -22,9 +22,9 @@ __all__ = ["main"]
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status: 0, 2 for bad arguments (with a message on
-    stderr, never a traceback) or no command (the help on stdout, the error on stderr), 1 when writing an output
-    fails, 130 on Ctrl-C, 141 (as a shell reports SIGPIPE) when the reader of the output goes
-    away, as in ``polhode ... | head``."""
+    stderr, never a traceback) or no command (the help on stdout, the error on stderr), 1 when
+    writing an output fails, 130 on Ctrl-C, 141 (as a shell reports SIGPIPE) when the reader
+    of the output goes away, as in ``polhode ... | head``."""
     try:
         return _main(argv)
     except BrokenPipeError:
