@@ -4,7 +4,7 @@
 
 Timed, interleaved, R rounds (default 7), N output times (default 2e5) on one body:
 
-- ``ph.simulate(body, omega0, t, method="exact")``: the full state (omega and the attitude
+- ``ph.simulate(body, omega0, t, method="exact")``: the full state (omega and the orientation
   quaternion) at each time;
 - the same with ``orientation=False``: omega alone;
 - ``scipy.special.ellipj(u, m)`` on the N phases ``u = lambda t + u0`` of that motion (the

@@ -34,7 +34,7 @@ def main() -> None:
         )
         print()
         print(result.table())
-        for which in ("omega", "attitude"):
+        for which in ("omega", "orientation"):
             print(f"\ncost to reach each error of the {which} (ms), and polhode's speed-up:")
             print(bench.targets(result, which=which))
         if args.plot:

@@ -1,5 +1,5 @@
 """Prints polhode.bench.REFERENCE: the state at t_end of each work-precision case, from the
-identity attitude, by the independent 30-digit reference of tests/reference_motion.py.
+identity orientation, by the independent 30-digit reference of tests/reference_motion.py.
 
     python -m benchmarks.reference_values
 

@@ -53,7 +53,7 @@ def _ratios(
 
 def _reading_work_precision(result: bench.WorkPrecision) -> list[str]:
     lines = []
-    for which in ("omega", "attitude"):
+    for which in ("omega", "orientation"):
         lines.append(f"- Error of the {which}:")
         dop = _ratios(result, "polhode dop853", "scipy DOP853", which)
         reached = [(lv, r) for lv, _, r in dop if r is not None]
@@ -98,7 +98,8 @@ def _reading_work_precision(result: bench.WorkPrecision) -> list[str]:
         p = exact.points[0]
         lines.append(
             f"- The exact solution: {p.median * 1e3:.3f} ms per call, with errors "
-            f"{p.error_omega:.1e} (omega) and {p.error_attitude:.1e} rad (attitude) against the "
+            f"{p.error_omega:.1e} (omega) and {p.error_orientation:.1e} rad (orientation) "
+            "against the "
             "30-digit reference."
         )
     return lines
@@ -133,12 +134,12 @@ def _reading_throughput(result: bench.Throughput) -> list[str]:
             + ("met." if worst >= TARGET_RK4_RATE else "**not met at every N**.")
         )
     for method in dict.fromkeys(row[0] for row in result.rows):
-        for attitude in (True, False):
-            r = result.rate(method, attitude)
+        for orientation in (True, False):
+            r = result.rate(method, orientation)
             if r:
                 unit = "evaluations" if method == "exact" else "body-steps"
                 lines.append(
-                    f"- {method} ({'with' if attitude else 'without'} orientation): "
+                    f"- {method} ({'with' if orientation else 'without'} orientation): "
                     f"{min(r.values()):.3g} to {max(r.values()):.3g} {unit} per second "
                     f"(N = {min(r)} to {max(r)}); at N = 1: {r.get(1, float('nan')):.3g}."
                 )
@@ -162,7 +163,7 @@ def _kernels_section(quick: bool, repeats: int) -> list[str]:
         "`numpy.linalg.eigh`, a mesh of 327,680 faces against trimesh, 1e7 point masses "
         "against the numpy reference, the exact solution per output time (full state and "
         "omega alone, 2e5 times) against `scipy.special.ellipj` at as many arguments, batch "
-        "rk4, splitting and midpoint (1e5 bodies, 200 steps, with attitude) against a numpy "
+        "rk4, splitting and midpoint (1e5 bodies, 200 steps, with orientation) against a numpy "
         "structure-of-arrays rk4, and one small call (`simulate` of one body at 2 times, "
         "`analyze`) against `Rotation.from_rotvec(...).as_matrix()`. Ratio: the peer's time "
         "over polhode's, medians of interleaved repeats in this run; the target is the ratio "
@@ -261,7 +262,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         "",
         "`python -m benchmarks.bench_workprecision --case all --plot docs/img`. Wall time of the "
         "whole Python call (argument checks and outputs included) against the error at the end "
-        "time: the relative error of omega and the angle (rad) between the attitude and the "
+        "time: the relative error of omega and the angle (rad) between the orientation and the "
         "reference. polhode's methods sweep rtol (dop853) or dt (the fixed-step ones); scipy's "
         "`solve_ivp` integrates the 7 equations of omega and the quaternion with a numpy "
         "right-hand side and atol = rtol |omega0|; MuJoCo integrates a free body with gravity "
@@ -283,7 +284,7 @@ def main(argv: Sequence[str] | None = None) -> None:
             "",
         ]
         doc += [_block(result.table())]
-        for which in ("omega", "attitude"):
+        for which in ("omega", "orientation"):
             doc += [f"Cost to reach each error of the {which} (ms) and the ratios:", ""]
             doc += [_block(bench.targets(result, which=which))]
         doc += _reading_work_precision(result) + [""]
@@ -307,7 +308,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     doc += [
         "What the methods promise (and the tests check): the splittings keep |L| and L in space "
         "exactly, up to round-off, and their energy error stays bounded; the implicit midpoint "
-        "rule keeps T and |L| exactly, but its attitude update does not keep L in space; RK4 "
+        "rule keeps T and |L| exactly, but its orientation update does not keep L in space; RK4 "
         "and DOP853 keep nothing exactly, and drift. A growth factor near 1 is a bounded "
         "error; at the 1e-13 level and below it measures round-off accumulating, not the "
         "method.",

@@ -44,7 +44,7 @@ def test_hlw_case_starts_from_the_given_angular_momentum():
     np.testing.assert_allclose(m0, [math.cos(1.1), 0.0, math.sin(1.1)], rtol=1e-15, atol=1e-16)
 
 
-def test_attitude_error_is_the_rotation_angle():
+def test_orientation_error_is_the_rotation_angle():
     rng = np.random.default_rng(3)
     for angle in (1e-12, 1e-6, 0.3, 2.5):
         a = Rotation.random(random_state=rng)
@@ -53,7 +53,7 @@ def test_attitude_error_is_the_rotation_angle():
         b = a * delta
         # q and -q are one rotation.
         for sign in (1.0, -1.0):
-            err = motion._attitude_error(sign * b.as_quat(), a.as_quat())
+            err = motion._orientation_error(sign * b.as_quat(), a.as_quat())
             assert err == pytest.approx(angle, rel=1e-9, abs=1e-15)
 
 
@@ -78,7 +78,7 @@ def hlw():
 
 def test_exact_is_at_round_off_against_the_reference(hlw):
     p = hlw.get("polhode exact").points[0]
-    assert p.error_omega < 1e-14 and p.error_attitude < 1e-13
+    assert p.error_omega < 1e-14 and p.error_orientation < 1e-13
 
 
 def test_fixed_step_errors_fall_with_the_order(hlw):

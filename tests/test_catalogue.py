@@ -1766,9 +1766,10 @@ cli_err("bench --repeats 0", ["bench", "--repeats", "0"], "--repeats")
 
 
 def printed(label, stdout):
-    """The numbers printed after ``label`` on its line, e.g. 'principal moments  [1. 2. 3.]'."""
+    """The numbers printed after ``label`` on its line, up to the first ``]``, e.g.
+    'principal moments  [1 2 3]   (I1 <= I2 <= I3)'."""
     line = next(x for x in stdout.splitlines() if x.startswith(label))
-    return np.array([float(v) for v in line[len(label):].replace("[", " ").replace("]", " ")
+    return np.array([float(v) for v in line[len(label):].split("]")[0].replace("[", " ")
                      .split()])
 
 

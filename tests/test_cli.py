@@ -125,7 +125,8 @@ def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
     assert abs(printed / period - 1) < 1e-9
     with path.open() as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"]
+    assert rows[0] == ["t (s)", "omega_1 (rad/s)", "omega_2 (rad/s)", "omega_3 (rad/s)", "qx", "qy",
+                       "qz", "qw"]
     data = np.array(rows[1:], dtype=float)
     assert data.shape == (11, 8)
     np.testing.assert_allclose(data[0, 1:4], w, rtol=1e-14)
@@ -346,3 +347,18 @@ print("RESULT", seen["loaded"] == after, bool(after), "matplotlib.figure" in see
     assert plotted.returncode == 0, plotted.stderr
     # With --plot, matplotlib is imported while the arguments are checked, before the run.
     assert plotted.stdout.split("RESULT")[1].split()[2] == "True"
+
+
+def test_a_bare_polhode_prints_its_help_and_writes_nothing(tmp_path, capsys, monkeypatch):
+    """It ran the whole demo and wrote eight files into ./polhode-demo."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(ph, "simulate", lambda *a, **k: pytest.fail("no run"))
+    assert main([]) == 2
+    out, err = capsys.readouterr()
+    assert out.startswith("usage: polhode") and "{demo,spin,audit,inertia,bench}" in out
+    assert "numbered 1, 2, 3 in ascending order of moment" in " ".join(out.split())
+    assert err == "polhode: error: no command given (`polhode demo` runs the demo)\n"
+    assert list(tmp_path.iterdir()) == []
+    done = subprocess.run([sys.executable, "-m", "polhode"], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=120)
+    assert done.returncode == 2 and done.stdout == out and list(tmp_path.iterdir()) == []

@@ -56,6 +56,16 @@ BAD = [
         True,
     ),
     (["spin", "--body", "--omega", "1", "1", "1", "--t", "5"], "--body", True),
+    # --body's vector keys: three comma-separated numbers under the name Body gives them
+    (["spin", "--body", "cuboid", "mass=1", "size=0.1,0.2", *OMEGA_T], "size=X,Y,Z", True),
+    (["spin", "--body", "cuboid", "mass=1", "size=0.1,x,0.2", *OMEGA_T], "size=X,Y,Z", True),
+    (["spin", "--body", "cuboid", "mass=1", "a=1", "b=2", "c=3", *OMEGA_T], "'a'", True),
+    (["spin", "--body", "cuboid", "mass=1", *OMEGA_T], "missing size", True),
+    (["spin", "--body", "ellipsoid", "mass=1", "semi_axes=1", *OMEGA_T], "semi_axes=X,Y,Z",
+     True),
+    (["spin", "--body", "sphere", "mass=1,2", "radius=1", *OMEGA_T], "mass=NUMBER", True),
+    (["spin", "--body", "cuboid", "mass=1", "size=0.1,-0.2,0.3", *OMEGA_T],
+     "Y of size=X,Y,Z to be positive", True),
     # --omega
     (["spin", "--moments", "1", "2", "3", "--omega", "1", "1", "--t", "5"], "--omega", True),
     (["spin", "--moments", "1", "2", "3", "--omega", "nan", "1", "1", "--t", "5"], "omega0", True),

@@ -432,8 +432,9 @@ def read_frames_csv(path):
     with open(path, newline="") as handle:
         rows = list(csv.reader(handle))
     header, body = rows[0], np.array(rows[1:], dtype=float)
-    assert header[:4] == ["frame", "moment_0", "moment_1", "moment_2"]
-    assert header[4:] == [f"axis_{k}_{c}" for k in range(3) for c in "xyz"]
+    assert header[:4] == ["frame", "moment_1 (u angstrom^2)", "moment_2 (u angstrom^2)",
+                          "moment_3 (u angstrom^2)"]
+    assert header[4:] == [f"axis_{k}_{c}" for k in (1, 2, 3) for c in "xyz"]
     assert np.array_equal(body[:, 0], np.arange(len(body)))
     return body[:, 1:4], body[:, 4:].reshape(-1, 3, 3).transpose(0, 2, 1)  # axes as columns
 

@@ -83,7 +83,8 @@ def test_spin_with_a_wheel_and_a_damper_against_scipy(tmp_path, capsys):
             "--damper", str(jd), str(c), *method,
         ]
         out, header, data = _spin(argv, tmp_path, capsys)
-        assert header[8:] == ["wheel1_rate", "damper1_rate_x", "damper1_rate_y", "damper1_rate_z"]
+        assert header[8:] == ["wheel1_rate (rad/s)", "damper1_rate_x (rad/s)",
+                              "damper1_rate_y (rad/s)", "damper1_rate_z (rad/s)"]
         assert data.shape == (33, 12)
         # Measured against scipy (rtol 1e-12): dop853 at rtol 1e-12 within 5.5e-12 (omega),
         # 2.5e-11 (the rotor rates) and 2.2e-11 rad (the orientation); rk4 at dt = 2e-3 within
@@ -128,7 +129,8 @@ def test_spin_with_a_damper_shows_the_major_axis_rule(tmp_path, capsys):
     argv = ["--moments", "1", "4", "5", "--omega", "2", "0.01", "0.01", "--t", "400",
             "--points", "401", "--damper", "0.2", "0.1", "--rtol", "1e-12"]
     out, header, data = _spin(argv, tmp_path, capsys)
-    assert header[8:] == ["damper1_rate_x", "damper1_rate_y", "damper1_rate_z"]
+    assert header[8:] == ["damper1_rate_x (rad/s)", "damper1_rate_y (rad/s)",
+                          "damper1_rate_z (rad/s)"]
     _, _, ref_rates, ref_l, ref_t = gyrostat(np.diag(moments), omega0, [0.0, 0.0, 0.0, 1.0],
                                              times, [DamperRef(0.2, 0.1)])
     ell = _total_momentum_space(moments, data, [], [0.2])

@@ -1,17 +1,21 @@
-"""The wheel installs and runs where there is no Rust, and the sdist builds.
+"""The wheel installs and runs where there is no Rust, on every CPython it claims, and the sdist
+builds.
 
 ``scripts/test.sh`` builds the wheel once (``pip wheel . -w dist``), installs it for the tests
-and sets ``POLHODE_WHEEL`` to its path: this test installs that same wheel into a fresh
-virtual environment whose PATH holds no cargo nor rustc and runs ``polhode demo --no-plots``
-there. Without ``POLHODE_WHEEL`` it builds the wheel itself if ``POLHODE_BUILD_WHEEL=1`` (a
-release compile of a few minutes), and is skipped otherwise, so that a local run of a few test
-files stays quick. Installing numpy and scipy into the fresh environment needs PyPI or pip's
-cache.
+and sets ``POLHODE_WHEEL`` to its path: these tests install that same wheel into fresh virtual
+environments whose PATH holds no cargo nor rustc and run ``polhode demo --no-plots`` there, one
+environment per CPython the wheel claims (``cp310-abi3``: 3.10 and every later one) that is on
+the machine: the interpreter running the tests, pyenv's (``~/.pyenv/versions``) and the
+``python3.X`` on the PATH. A version the machine does not have is skipped, saying so. Without
+``POLHODE_WHEEL`` they build the wheel if ``POLHODE_BUILD_WHEEL=1`` (a release compile of a few
+minutes), and are skipped otherwise, so that a local run of a few test files stays quick.
+Installing numpy and scipy into the fresh environments needs PyPI or pip's cache.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -71,9 +75,79 @@ def test_one_abi3_wheel_with_the_extension_and_the_package(wheel):
     assert not any(n.endswith(".rs") for n in names)  # no Rust source in a wheel
 
 
-def test_wheel_installs_and_runs_the_demo_without_rust(wheel, tmp_path):
+#: The CPython versions the wheel claims (its tag is cp310-abi3: 3.10 and later), as far as
+#: this test names them; a later one found on the machine is tested too.
+CLAIMED = ((3, 10), (3, 11), (3, 12), (3, 13))
+
+
+def _version(python: str) -> tuple[int, int] | None:
+    """(major, minor) of a CPython interpreter, None for another implementation or a failure."""
+    try:
+        done = subprocess.run(
+            [python, "-c", "import sys; print(sys.implementation.name, *sys.version_info[:2])"],
+            capture_output=True,
+            text=True,
+            timeout=30,
+        )
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    words = done.stdout.split()
+    if done.returncode != 0 or len(words) != 3 or words[0] != "cpython":
+        return None
+    return int(words[1]), int(words[2])
+
+
+def interpreters() -> dict[tuple[int, int], str]:
+    """One CPython >= 3.10 per version found on the machine: the one running the tests first,
+    then pyenv's, then ``python3.X`` on the PATH."""
+    candidates = [sys.executable]
+    pyenv = Path(os.environ.get("PYENV_ROOT", Path.home() / ".pyenv")) / "versions"
+    candidates += [str(p) for p in sorted(pyenv.glob("3.*/bin/python3"))]
+    candidates += [shutil.which(f"python3.{minor}") or "" for minor in range(10, 20)]
+    found: dict[tuple[int, int], str] = {}
+    for python in candidates:
+        if python:
+            version = _version(python)
+            if version is not None and version >= (3, 10) and version not in found:
+                found[version] = python
+    return found
+
+
+FOUND = interpreters()
+
+
+@pytest.fixture(scope="module")
+def expected_numbers() -> str:
+    """The numbers the smoke test prints, from the wheel installed for the tests: every CPython
+    runs the same compiled code (the stable ABI) and must print them bit for bit."""
+    return _smoke_numbers(sys.executable, os.environ)
+
+
+#: What the smoke test runs in each environment: a simulation and an analysis, printed as the
+#: doubles' shortest round-trip decimals.
+_SMOKE = (
+    "import polhode as ph; "
+    "sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], [0.0, 7.5, 30.0]); "
+    "a = ph.analyze([1.0, 2.0, 3.0], [0.01, 1.0, 0.01]); "
+    "print(*map(repr, [*sol.omega.ravel().tolist(), *sol.quaternion.ravel().tolist(), a.period]))"
+)
+
+
+def _smoke_numbers(python, env) -> str:
+    return _run([str(python), "-c", _SMOKE], env=env).stdout.strip()
+
+
+@pytest.mark.parametrize(
+    "version",
+    sorted(set(CLAIMED) | set(FOUND)),
+    ids=lambda v: f"cpython{v[0]}.{v[1]}",
+)
+def test_wheel_installs_and_runs_the_demo_without_rust(wheel, tmp_path, version, expected_numbers):
+    python_found = FOUND.get(version)
+    if python_found is None:
+        pytest.skip(f"no CPython {version[0]}.{version[1]} on this machine (pyenv install it)")
     venv = tmp_path / "venv"
-    _run([sys.executable, "-m", "venv", str(venv)])
+    _run([python_found, "-m", "venv", str(venv)])
     bin_dir = venv / ("Scripts" if os.name == "nt" else "bin")
     # A PATH with the new environment and the system's programs, but no Rust toolchain.
     system = [p for p in ("/usr/local/bin", "/usr/bin", "/bin") if Path(p).is_dir()]
@@ -91,6 +165,7 @@ def test_wheel_installs_and_runs_the_demo_without_rust(wheel, tmp_path):
     if "PIP_CACHE_DIR" in os.environ:
         env["PIP_CACHE_DIR"] = os.environ["PIP_CACHE_DIR"]
     python = bin_dir / "python"
+    assert _version(str(python)) == version
     # --only-binary: nothing may be compiled, polhode least of all.
     _run([str(python), "-m", "pip", "install", "--quiet", "--only-binary", ":all:", str(wheel)],
          env=env, cwd=tmp_path)
@@ -103,6 +178,22 @@ def test_wheel_installs_and_runs_the_demo_without_rust(wheel, tmp_path):
         [str(python), "-c", "import polhode._core as c; print(c.__file__)"], env=env, cwd=tmp_path
     ).stdout.strip()
     assert Path(where).is_relative_to(venv), where
+    assert where.endswith(".abi3.so"), where
+    # The same numbers, bit for bit, as under the interpreter that runs the tests.
+    assert _smoke_numbers(python, env) == expected_numbers
+
+
+def test_the_wheel_declares_the_all_extra(wheel):
+    with zipfile.ZipFile(wheel) as archive:
+        (name,) = [n for n in archive.namelist() if n.endswith(".dist-info/METADATA")]
+        metadata = archive.read(name).decode()
+    assert "Provides-Extra: all" in metadata
+    extra_all = re.compile(r"extra == ['\"]all['\"]")
+    requires = [line for line in metadata.splitlines() if extra_all.search(line)]
+    assert requires, metadata
+    assert "polhode[" in requires[0] and all(
+        e in requires[0] for e in ("plot", "progress", "dask", "mesh", "robots", "chem")
+    ), requires
 
 
 def test_sdist_builds_and_holds_what_a_build_needs(tmp_path):

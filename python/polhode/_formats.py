@@ -25,6 +25,7 @@ __all__ = [
     "from_urdf_inertia",
     "fullinertia",
     "mjcf_inertial",
+    "number",
     "numbers",
     "urdf_inertia",
     "urdf_inertial",
@@ -34,9 +35,16 @@ __all__ = [
 URDF_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
 
+def number(value: Any) -> str:
+    """The shortest decimal that reads back to the same double (``repr``), never ``-0.0``:
+    what every file polhode writes holds (``-0.0 + 0.0`` is ``0.0`` in IEEE arithmetic, and
+    every other number is unchanged)."""
+    return repr(float(value) + 0.0)
+
+
 def numbers(values: Any) -> str:
-    """Space-separated shortest round-trip decimals."""
-    return " ".join(repr(float(v)) for v in values)
+    """Space-separated :func:`number` s."""
+    return " ".join(number(v) for v in values)
 
 
 def fixed_axis_rpy(matrix: NDArray[np.float64]) -> tuple[float, float, float]:
@@ -139,7 +147,7 @@ def urdf_inertial(body: Any) -> str:
     """:meth:`polhode.Body.to_urdf_inertial`."""
     p = body.principal()
     rpy = fixed_axis_rpy(p.axes)
-    m = [repr(float(x)) for x in p.moments]
+    m = [number(x) for x in p.moments]
     return (
         "<inertial>\n"
         f'  <origin xyz="{numbers(body.center_of_mass)}" rpy="{numbers(rpy)}"/>\n'

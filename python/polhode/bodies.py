@@ -194,7 +194,10 @@ class Body:
         if unknown:
             takes = ", ".join(name for name, _ in table) or "no parameters"
             raise TypeError(f"Body.solid: a {kind} takes {takes}; got {', '.join(unknown)}.")
-        return cls(_core.MassProperties.solid(kind, as_scalar("mass", mass), **values))
+        body = cls(_core.MassProperties.solid(kind, as_scalar("mass", mass), **values))
+        if kind in _shapes.SOLIDS:  # drawn as the named constructor's body is
+            body._shape = _shapes.part(kind, **{k: np.asarray(v) for k, v in values.items()})
+        return body
 
     @classmethod
     def sphere(cls, mass: float, radius: float) -> Body:

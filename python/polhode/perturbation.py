@@ -180,7 +180,7 @@ def _check_domain(
     """Raise ArgumentError where the expansion about axis ``k`` means nothing (module docstring)."""
     i, j = (k + 1) % 3, (k + 2) % 3
     spin, a, b = float(omega[k]), float(omega[i]), float(omega[j])
-    where = f"about axis {k} with omega0 = {omega.tolist()}"
+    where = f"about `axis={k}` with omega0 = {omega.tolist()}"
     if spin == 0.0:
         raise ArgumentError(
             f"Invalid `omega0`: no spin {where}; the expansion is in |omega_perp| / |W| with W "
@@ -220,7 +220,7 @@ def _check_domain(
         size = max(math.hypot(a - omega_i * b * x, b + omega_j * a * x) / scale for x in ends)
         if not size <= EPS_MAX:
             raise ArgumentError(
-                f"Invalid `t`: axis {k} shares its moment with another, so the perturbation "
+                f"Invalid `t`: `axis={k}` shares its moment with another, so the perturbation "
                 f"drifts linearly in t, reaching {size:.3g} |W| within the times, above "
                 f"{EPS_MAX} |W| (the expansion is in powers of it).",
                 argument="t",
@@ -247,7 +247,7 @@ def _check_oscillation(
     size = math.sqrt((m11 + m22 + math.hypot(m11 - m22, 2 * m12)) / 2) / scale
     if not size <= EPS_MAX:
         raise ArgumentError(
-            f"Invalid `omega0`: near the stable axis {k} the perturbation of {omega.tolist()} "
+            f"Invalid `omega0`: near the stable `axis={k}` the perturbation of {omega.tolist()} "
             f"oscillates with a size up to {size:.3g} |W|, above {EPS_MAX} |W| (the expansion "
             "is in powers of it); spin closer to the axis or integrate with polhode.simulate.",
             argument="omega0",
@@ -258,15 +258,15 @@ def _check_oscillation(
     )
     if info["regime"] not in ("about_axis", "symmetric") or info["axis"] != k:
         raise ArgumentError(
-            f"Invalid `omega0`: the motion from {omega.tolist()} does not circulate about axis "
-            f"{k} (regime {info['regime']}, axis {info['axis']}).",
+            f"Invalid `omega0`: the motion from {omega.tolist()} does not circulate about "
+            f"`axis={k}` (regime {info['regime']}, about `axis={info['axis']}`).",
             argument="omega0",
         )
     motion = 2 * math.pi / info["period"]
     drift_rate = abs(w - motion) + _PHASE_ROUNDING * w
     if not drift_rate * span <= EPS_MAX:
         raise ArgumentError(
-            f"Invalid `t`: near the stable axis {k} the expansion oscillates at {w:.15g} and the "
+            f"Invalid `t`: near the stable `axis={k}` the expansion oscillates at {w:.15g} and the "
             f"motion at 2 pi / period = {motion:.15g}; by |t| = {span:.6g} their phases differ "
             f"by {drift_rate * span:.3g} rad (rounding included), above {EPS_MAX}: the "
             f"expansion holds for |t| <= {EPS_MAX / drift_rate:.9g}.",
@@ -280,7 +280,7 @@ def _check_growth(
     """Near the unstable axis: a finite growth factor, and a perturbation still small."""
     rate = math.sqrt(-omega_i * omega_j)
     p, q = omega_i * b / rate, omega_j * a / rate
-    grows = f"near the unstable axis {k} the perturbation grows like e^(lambda t), " + (
+    grows = f"near the unstable `axis={k}` the perturbation grows like e^(lambda t), " + (
         f"lambda = {rate:.9g}"
     )
     overflow = _LOG_MAX / (2 * rate)  # beyond, e^(2 lambda t) overflows

@@ -189,7 +189,7 @@ def principal(inertia: Any, rtol: float | None = None, *, continuous: bool = Fal
     >>> p = ph.principal(inertia, continuous=True)
     >>> bool(np.allclose(p.axes, turn))         # the axes follow the rotation, no flip
     True
-    >>> bool(np.allclose(p.moments[:, 0], a))   # axis 0 keeps its moment through the crossing
+    >>> bool(np.allclose(p.moments[:, 0], a))   # axes[:, :, 0] keeps its moment
     True
     """
     continuous = as_flag("continuous", continuous)

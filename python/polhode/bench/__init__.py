@@ -111,7 +111,7 @@ def run(
     wp = work_precision("flip", quick=quick, repeats=repeats, budget=1.0 if quick else 3.0)
     print_("## Work-precision, one body, torque-free, errors against the exact solution")
     print_(wp.table())
-    for which in ("omega", "attitude"):
+    for which in ("omega", "orientation"):
         print_(
             f"\nCost to reach each error of the {which} (ms, interpolated), and how many times "
             "faster polhode is:"

@@ -1,7 +1,7 @@
 """The peers, called as their own users would call them: scipy's ``solve_ivp`` on Euler's
 equations and the quaternion, a numpy structure-of-arrays RK4 over a batch of bodies, MuJoCo's
 free body, numpy's point-mass inertia and trimesh's mesh integrals. What each returns is in
-polhode's conventions: omega in body axes, the body-to-space attitude as a scalar-last
+polhode's conventions: omega in body axes, the body-to-space orientation as a scalar-last
 (x, y, z, w) quaternion.
 
 scipy is a dependency; MuJoCo and trimesh are optional (the ``bench`` extra) and are imported
@@ -52,7 +52,7 @@ def numpy_rk4(
     moments: Array, omega0: Array, steps: int, dt: float, orientation: bool = True
 ) -> tuple[Array, Array | None]:
     """N torque-free bodies by classic RK4 in numpy, structure of arrays (each component an
-    (N,) array), from identity attitude: ``steps`` steps of ``dt`` on Euler's equations and
+    (N,) array), from the identity orientation: ``steps`` steps of ``dt`` on Euler's equations and
     q' = q (0, omega) / 2, the quaternion renormalised at the end. The batch peer of
     :func:`polhode.bench.throughput`; returns omega (N, 3) and the xyzw quaternion (N, 4), or
     None without ``orientation``."""
@@ -110,7 +110,7 @@ SCIPY_MIN_RTOL = 1e-12
 def scipy_runner(
     moments: Sequence[float], omega0: Sequence[float], t_end: float, method: str, rtol: float
 ) -> Runner:
-    """``solve_ivp`` with ``method`` from identity attitude, ``atol = rtol |omega0|``."""
+    """``solve_ivp`` with ``method`` from the identity orientation, ``atol = rtol |omega0|``."""
     from scipy.integrate import solve_ivp
 
     rhs = euler_rhs(moments)
@@ -160,7 +160,7 @@ def mujoco_runner(
     moments: Sequence[float], omega0: Sequence[float], t_end: float, integrator: str, dt: float
 ) -> Runner:
     """``round(t_end / dt)`` steps of ``integrator`` with ``mujoco.rollout``, from identity
-    attitude."""
+    orientation."""
     import mujoco
     from mujoco import rollout
 

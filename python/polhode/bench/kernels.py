@@ -507,7 +507,7 @@ def batch(n: int = 100_000, repeats: int = 5, steps: int = 200) -> list[Row]:
     work = n * steps
     return [
         Row(
-            f"batch rk4 with attitude, {n:.0e} bodies",
+            f"batch rk4 with orientation, {n:.0e} bodies",
             "rk4",
             work,
             "body-step",

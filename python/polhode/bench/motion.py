@@ -68,7 +68,7 @@ CASES = {
 }
 
 
-# The state (omega, xyzw quaternion) at t_end of each case, from identity attitude, rounded
+# The state (omega, xyzw quaternion) at t_end of each case, from the identity orientation, rounded
 # from 30 digits (see the module docstring).
 REFERENCE: dict[str, tuple[tuple[float, float, float], tuple[float, float, float, float]]] = {
     "flip": (
@@ -93,20 +93,20 @@ class Point:
     setting: str
     seconds: list[float]
     error_omega: float
-    error_attitude: float
+    error_orientation: float
 
     @property
     def median(self) -> float:
         return _median(self.seconds)
 
     def error(self, which: str = "omega") -> float:
-        """The relative error of omega (``"omega"``), the attitude error in radians
-        (``"attitude"``), or the larger of the two (``"both"``)."""
+        """The relative error of omega (``"omega"``), the orientation error in radians
+        (``"orientation"``), or the larger of the two (``"both"``)."""
         if which == "omega":
             return self.error_omega
-        if which == "attitude":
-            return self.error_attitude
-        return max(self.error_omega, self.error_attitude)
+        if which == "orientation":
+            return self.error_orientation
+        return max(self.error_omega, self.error_orientation)
 
 
 @dataclass
@@ -133,21 +133,21 @@ class WorkPrecision:
         lines = [
             f"{self.case.label}",
             f"{'series':26s} {'setting':>12s} {'median ms':>10s} {'spread ms':>17s} "
-            f"{'err omega':>10s} {'err attitude':>13s}",
+            f"{'err omega':>10s} {'err orientation':>16s}",
         ]
         for s in self.series:
             for p in s.points:
                 lines.append(
                     f"{s.name:26s} {p.setting:>12s} {p.median * 1e3:10.3f} "
-                    f"{_spread(p.seconds):>17s} {p.error_omega:10.1e} {p.error_attitude:13.1e}"
+                    f"{_spread(p.seconds):>17s} {p.error_omega:10.1e} {p.error_orientation:16.1e}"
                 )
         if self.skipped:
             lines.append(f"(left out: {', '.join(self.skipped)})")
         return "\n".join(lines)
 
 
-def _attitude_error(q: Array, q_ref: Array) -> float:
-    """The angle (rad) of the rotation between two attitudes, xyzw quaternions."""
+def _orientation_error(q: Array, q_ref: Array) -> float:
+    """The angle (rad) of the rotation between two orientations, xyzw quaternions."""
     q = q / np.linalg.norm(q)
     # r = conj(q_ref) * q; its angle is 2 atan2(|r_vec|, |r_w|).
     w = abs(float(np.dot(q, q_ref)))
@@ -158,7 +158,7 @@ def _attitude_error(q: Array, q_ref: Array) -> float:
 def _errors(omega: Array, quaternion: Array, reference: tuple[Array, Array]) -> tuple[float, float]:
     w_ref, q_ref = reference
     e_w = float(np.linalg.norm(omega - w_ref) / np.linalg.norm(w_ref))
-    return e_w, _attitude_error(quaternion, q_ref)
+    return e_w, _orientation_error(quaternion, q_ref)
 
 
 # Sweeps: coarse to fine. A series stops at the first setting whose first call exceeds the
@@ -346,7 +346,7 @@ def targets(
     levels: Sequence[float] = (1e-6, 1e-8, 1e-10, 1e-12),
     which: str = "omega",
 ) -> str:
-    """At each error level (of omega, the attitude or both: :meth:`Point.error`): the cost of
+    """At each error level (of omega, the orientation or both: :meth:`Point.error`): the cost of
     polhode's dop853, of polhode's fastest method, of scipy's DOP853 and of MuJoCo's RK4, and
     the ratios (how many times faster polhode is); '-' where a series does not get there."""
     ours = result.get("polhode dop853")
@@ -455,31 +455,31 @@ class Throughput:
     """Body-steps per second (integrators) or evaluations per second (exact) against N, and the
     numpy structure-of-arrays RK4 (rows named :data:`NUMPY_RK4`) for N >= 1e4."""
 
-    rows: list[tuple[str, bool, int, int, list[float]]]  # method, attitude, N, work, seconds
+    rows: list[tuple[str, bool, int, int, list[float]]]  # method, orientation, N, work, seconds
 
-    def rate(self, method: str, attitude: bool) -> dict[int, float]:
+    def rate(self, method: str, orientation: bool) -> dict[int, float]:
         return {
             n: work / _median(secs)
             for m, a, n, work, secs in self.rows
-            if m == method and a == attitude
+            if m == method and a == orientation
         }
 
-    def ratio(self, method: str, attitude: bool) -> dict[int, float]:
-        """The rate of ``method`` over the numpy RK4's (same N and attitude, same run)."""
-        peer = self.rate(NUMPY_RK4, attitude)
-        return {n: r / peer[n] for n, r in self.rate(method, attitude).items() if n in peer}
+    def ratio(self, method: str, orientation: bool) -> dict[int, float]:
+        """The rate of ``method`` over the numpy RK4's (same N and orientation, same run)."""
+        peer = self.rate(NUMPY_RK4, orientation)
+        return {n: r / peer[n] for n, r in self.rate(method, orientation).items() if n in peer}
 
     def table(self) -> str:
         lines = [
-            f"{'method':14s} {'attitude':>8s} {'N':>8s} {'median ms':>10s} {'spread ms':>17s} "
+            f"{'method':14s} {'orientation':>11s} {'N':>8s} {'median ms':>10s} {'spread ms':>17s} "
             f"{'per second':>11s} {'':10s} {'x numpy rk4':>11s}"
         ]
-        for method, attitude, n, work, secs in self.rows:
+        for method, orientation, n, work, secs in self.rows:
             unit = "evals" if method == "exact" else "body-steps"
-            ratio = self.ratio(method, attitude).get(n)
+            ratio = self.ratio(method, orientation).get(n)
             shown = "" if ratio is None or method in (NUMPY_RK4, "exact") else f"{ratio:.3g}"
             lines.append(
-                f"{method:14s} {str(attitude):>8s} {n:8d} {_median(secs) * 1e3:10.2f} "
+                f"{method:14s} {str(orientation):>11s} {n:8d} {_median(secs) * 1e3:10.2f} "
                 f"{_spread(secs):>17s} {work / _median(secs):11.3g} {unit:10s} {shown:>11s}"
             )
         return "\n".join(lines)
@@ -517,13 +517,13 @@ def throughput(
         names = list(methods) + ([NUMPY_RK4] if peer and n >= NUMPY_RK4_MIN_N else [])
         for method in names:
             steps_m = max(10, steps // cost.get(method, 1))
-            for attitude in (True, False):
+            for orientation in (True, False):
                 runs.append(
                     (
                         method,
-                        attitude,
+                        orientation,
                         n,
-                        _throughput_run(method, attitude, moments, omega0, steps_m, dt),
+                        _throughput_run(method, orientation, moments, omega0, steps_m, dt),
                     )
                 )
     seconds: list[list[float]] = [[] for _ in runs]
@@ -537,7 +537,7 @@ def throughput(
 
 
 def _throughput_run(
-    method: str, attitude: bool, moments: Array, omega0: Array, steps: int, dt: float
+    method: str, orientation: bool, moments: Array, omega0: Array, steps: int, dt: float
 ) -> Any:
     """A call of one setting of :func:`throughput`, returning its work (body-steps or exact
     evaluations)."""
@@ -545,7 +545,7 @@ def _throughput_run(
     if method == NUMPY_RK4:
 
         def peer() -> int:
-            adapters.numpy_rk4(moments, omega0, steps, dt, orientation=attitude)
+            adapters.numpy_rk4(moments, omega0, steps, dt, orientation=orientation)
             return n * steps
 
         return peer
@@ -560,7 +560,7 @@ def _throughput_run(
         kwargs = {"method": method, "dt": dt}
 
     def call() -> int:
-        traj = simulate(moments, omega0, times, orientation=attitude, **kwargs)
+        traj = simulate(moments, omega0, times, orientation=orientation, **kwargs)
         if method == "exact":
             return n * len(times)
         return int(np.sum(traj.stats["steps"]))

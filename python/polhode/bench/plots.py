@@ -47,13 +47,13 @@ def _save(fig: Any, path: str) -> str:
 
 
 def plot_work_precision(result: WorkPrecision, path: str, floor: float = 1e-17) -> str:
-    """Two log-log panels (error of omega, error of the attitude) against the median wall time
+    """Two log-log panels (error of omega, error of the orientation) against the median wall time
     of the whole call, one line per series; polhode solid, peers dashed."""
     fig, axes = _figure(2)
     for ax, which, label in zip(
         axes,
-        ("omega", "attitude"),
-        ("relative error of omega at t_end", "attitude error at t_end (rad)"),
+        ("omega", "orientation"),
+        ("relative error of omega at t_end", "orientation error at t_end (rad)"),
         strict=True,
     ):
         for s in result.series:
@@ -101,17 +101,17 @@ def plot_throughput(result: Throughput, path: str) -> str:
     ax = axes[0]
     methods = list(dict.fromkeys(row[0] for row in result.rows))
     for k, method in enumerate(methods):
-        for attitude in (True, False):
-            rate = result.rate(method, attitude)
+        for orientation in (True, False):
+            rate = result.rate(method, orientation)
             if not rate:
                 continue
             ax.loglog(
                 list(rate),
                 list(rate.values()),
                 color=f"C{k}",
-                linestyle="-" if attitude else ":",
+                linestyle="-" if orientation else ":",
                 marker="o",
-                label=f"{method} ({'with' if attitude else 'no'} orientation)",
+                label=f"{method} ({'with' if orientation else 'no'} orientation)",
             )
     ax.set_xlabel("N bodies")
     ax.set_ylabel("body-steps per second (exact: evaluations per second)")

@@ -1,5 +1,7 @@
-"""The ``polhode`` command line: ``polhode demo`` (the default), ``polhode spin``,
-``polhode inertia``, ``polhode audit`` and ``polhode bench``.
+"""The ``polhode`` command line: ``polhode demo``, ``polhode spin``, ``polhode inertia``,
+``polhode audit`` and ``polhode bench``; a bare ``polhode`` prints the help, and on stderr that
+no command was given, and exits with status 2 (a usage error, as argparse has it), writing
+nothing.
 
 One module per command (``demo``, ``spin``, ``inertia``, ``audit``, ``bench``: each has its
 ``run(args)``), the parser apart (``_parser``), and what they share in ``_common`` (UsageError,
@@ -20,8 +22,9 @@ __all__ = ["main"]
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status: 0, 2 for bad arguments (with a message on
-    stderr, never a traceback), 1 when writing an output fails, 130 on Ctrl-C, 141 (as a shell
-    reports SIGPIPE) when the reader of the output goes away, as in ``polhode ... | head``."""
+    stderr, never a traceback) or no command (the help on stdout, the error on stderr), 1 when
+    writing an output fails, 130 on Ctrl-C, 141 (as a shell reports SIGPIPE) when the reader
+    of the output goes away, as in ``polhode ... | head``."""
     try:
         return _main(argv)
     except BrokenPipeError:
@@ -35,10 +38,12 @@ def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(sys.argv[1:] if argv is None else argv)
-        if args.command is None:
-            args = parser.parse_args(["demo"])
     except SystemExit as stop:  # argparse: --help, --version, or a message and status 2
         return stop.code if isinstance(stop.code, int) else 0 if stop.code is None else 2
+    if args.command is None:
+        parser.print_help()
+        print("polhode: error: no command given (`polhode demo` runs the demo)", file=sys.stderr)
+        return 2
     try:
         result: int = args.run(args)
     except UsageError as error:

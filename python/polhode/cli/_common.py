@@ -9,6 +9,8 @@ import os
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 import polhode as ph
 from polhode import _core
 
@@ -88,6 +90,39 @@ def check_folder(option: str, path: str) -> None:
         raise UsageError(option, f"cannot write into {folder!r} (permission denied).")
 
 
+def scenes_available() -> bool:
+    """Whether plotly imports (polhode.plot.scene's figures)."""
+    try:
+        import plotly.graph_objects  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def vector(values: Any, digits: int = 6) -> str:
+    """A vector as the reports print it: ``[1 0.5 -2.5e-07]``, ``digits`` significant digits,
+    never ``-0``."""
+    return "[" + " ".join(f"{float(x) + 0.0:.{digits}g}" for x in np.ravel(values)) + "]"
+
+
+def axes_words(axes: Any) -> str:
+    """Principal axes (the columns of ``axes``) as the reports print them, numbered as their
+    moments ascend: ``1: [0 0 1]  2: [1 0 0]  3: [0 1 0]``."""
+    return "  ".join(f"{k}: {vector(axis)}" for k, axis in enumerate(np.asarray(axes).T, 1))
+
+
+def json_numbers(value: Any) -> Any:
+    """``value`` (dicts, lists, floats) with every ``-0.0`` made ``0.0``: json writes each
+    float as its shortest round-trip decimal, and a negative zero as ``-0.0``."""
+    if isinstance(value, dict):
+        return {k: json_numbers(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_numbers(v) for v in value]
+    if isinstance(value, float):
+        return value + 0.0
+    return value
+
+
 def plots_available() -> bool:
     """Whether matplotlib imports (imported now, so that no run times its import)."""
     try:
@@ -98,12 +133,27 @@ def plots_available() -> bool:
 
 
 #: The solids ``--body`` takes and their keys, from the core's table: ``mass``, then each
-#: parameter, a vector one (a cuboid's size, an ellipsoid's semi-axes) as its x, y, z
-#: components ``a b c``.
-SOLIDS = {
-    kind: ("mass", *(n for name, width in p for n in ((name,) if width == 1 else ("a", "b", "c"))))
-    for kind, p in _core.SOLIDS.items()
-}
+#: parameter under the name :meth:`polhode.Body.solid` gives it (a cuboid's ``size``, an
+#: ellipsoid's ``semi_axes``); a vector parameter takes three comma-separated numbers
+#: (``size=0.1,0.2,0.5``).
+SOLIDS = {kind: ("mass", *(name for name, _ in p)) for kind, p in _core.SOLIDS.items()}
+
+
+def _key_form(kind: str, key: str) -> str:
+    """How ``--body``'s help and errors show a key: ``size=X,Y,Z`` for a vector."""
+    width = dict(_core.SOLIDS[kind]).get(key, 1)
+    return f"{key}=X,Y,Z" if width == 3 else f"{key}=NUMBER"
+
+
+def solid_forms() -> str:
+    """Each solid and its keys, as ``--body``'s help lists them: a number's key bare, a
+    vector's as ``size=X,Y,Z``."""
+    def form(kind: str, key: str) -> str:
+        return _key_form(kind, key) if dict(_core.SOLIDS[kind]).get(key, 1) > 1 else key
+
+    return "; ".join(
+        f"{kind} {' '.join(form(kind, k) for k in keys)}" for kind, keys in SOLIDS.items()
+    )
 
 
 #: ``--body mesh``: the file, exactly one of density and mass, and optionally scale and shell.
@@ -163,30 +213,40 @@ def _mesh(pairs: list[str]) -> ph.Body:
 
 
 def body_of(words: list[str]) -> ph.Body:
-    """A solid from ``KIND NAME=VALUE ...``, e.g. ``cylinder mass=1 radius=0.1 length=0.5``,
-    or a mesh file, ``mesh path=part.stl density=2700``."""
+    """A solid from ``KIND NAME=VALUE ...``, e.g. ``cylinder mass=1 radius=0.1 length=0.5`` or
+    ``cuboid mass=1 size=0.1,0.2,0.5``, or a mesh file, ``mesh path=part.stl density=2700``."""
     kind, *pairs = words
     if kind == "mesh":
         return _mesh(pairs)
     if kind not in SOLIDS:
         raise UsageError("--body", f"expected one of {', '.join(SOLIDS)} or mesh, got {kind!r}.")
     expected = SOLIDS[kind]
-    takes = f"{kind} takes {', '.join(expected)} (as NAME=NUMBER)"
-    values: dict[str, float] = {}
-    for name, value in _key_values(pairs, expected, kind, takes, "NAME=NUMBER").items():
+    takes = f"{kind} takes {' '.join(_key_form(kind, k) for k in expected)}"
+    widths = dict(_core.SOLIDS[kind])
+    values: dict[str, Any] = {}
+    for name, value in _key_values(pairs, expected, kind, takes, "NAME=VALUE").items():
+        width = widths.get(name, 1)
+        words = value.split(",")
         try:
-            values[name] = float(value)
+            numbers = [float(w) for w in words]
         except ValueError:
+            numbers = []
+        if len(numbers) != width:
+            form = _key_form(kind, name)
+            what = "three comma-separated numbers" if width == 3 else "a number"
             raise UsageError(
-                "--body", f"expected NAME=NUMBER, got {f'{name}={value}'!r}; {takes}."
-            ) from None
+                "--body", f"expected {form} ({what}), got {f'{name}={value}'!r}; {takes}."
+            )
+        values[name] = numbers[0] if width == 1 else numbers
     missing = [n for n in expected if n not in values]
     if missing:
         raise UsageError("--body", f"missing {', '.join(missing)}; {takes}.")
-    parameters: dict[str, Any] = {}
-    for name, width in _core.SOLIDS[kind]:
-        parameters[name] = values[name] if width == 1 else [values[k] for k in ("a", "b", "c")]
+    parameters = {name: values[name] for name, _ in _core.SOLIDS[kind]}
     try:
         return ph.Body.solid(kind, values["mass"], **parameters)
     except ph.PolhodeError as error:
-        raise UsageError("--body", f"{kind}: {error}") from None
+        message = str(error)
+        for name, width in _core.SOLIDS[kind]:  # a vector's component as typed: X, Y or Z
+            for k in range(width if width > 1 else 0):
+                message = message.replace(f"`{name}[{k}]`", f"{'XYZ'[k]} of {name}=X,Y,Z")
+        raise UsageError("--body", f"{kind}: {message}") from None

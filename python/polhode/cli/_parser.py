@@ -11,7 +11,7 @@ from polhode.cli import bench as bench_command
 from polhode.cli import demo as demo_command
 from polhode.cli import inertia as inertia_command
 from polhode.cli import spin as spin_command
-from polhode.cli._common import SOLIDS, integer, number
+from polhode.cli._common import integer, number, solid_forms
 from polhode.cli.inertia import MASS_SOURCES
 from polhode.cli.spin import DAMPER_FIELDS, FIXED_STEP, MAX_POINTS, WHEEL_FIELDS
 
@@ -46,63 +46,95 @@ class _Group(argparse.Action):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``polhode`` command's parser; each command's namespace has its ``run``."""
-    parser = argparse.ArgumentParser(prog="polhode", description="Rigid-body rotation.")
+    parser = argparse.ArgumentParser(
+        prog="polhode",
+        description="Rigid-body rotation: mass properties and the motion of a body spun free. "
+        "Principal axes are numbered 1, 2, 3 in ascending order of moment (I1 <= I2 <= I3). "
+        "Start with `polhode demo`.",
+    )
     parser.add_argument("--version", action="version", version=f"polhode {ph.__version__}")
     commands = parser.add_subparsers(dest="command")
     demo = commands.add_parser(
-        "demo", help="principal axes of a few bodies and the tennis-racket flip of a T-handle"
+        "demo",
+        help="principal axes of a few bodies and the tennis-racket flip of a T-handle, "
+        "printed, with plots and Poinsot's construction written into ./polhode-demo",
+        description="Principal axes of a few bodies, the tennis-racket flip of a T-handle "
+        "(predicted, observed, and what is conserved) and the major-axis rule with a damper, "
+        "printed; their plots (PNG), the flip animated (tennis_racket.gif) and Poinsot's "
+        "construction of the flip (poinsot.html, interactive, opens offline in a browser) "
+        "written into --out.",
     )
     demo.add_argument(
         "--out",
         default="polhode-demo",
-        help="folder for the PNG plots and tennis_racket.gif (default ./polhode-demo)",
+        help="folder for the PNG plots, tennis_racket.gif and poinsot.html (default "
+        "./polhode-demo)",
     )
     demo.add_argument("--no-plots", action="store_true", help="print only, write no file")
     demo.set_defaults(run=demo_command.run)
     spin = commands.add_parser(
         "spin",
-        help="simulate one torque-free body and report its motion and invariant drift",
-        description="Simulate one torque-free body, optionally with internal rotors (--wheel, "
-        "--damper). Give --moments or --body.",
+        help="simulate one body free of external torques, optionally with internal rotors, "
+        "and report its motion and invariant drift",
+        description="Simulate one body free of external torques, optionally with internal "
+        "rotors: reaction wheels (--wheel, with a constant motor torque on each) and spherical "
+        "dampers (--damper). External torques (gravity, torque models, functions) are "
+        "polhode.simulate's torque=, not options of this command. Give --moments or --body. "
+        "Principal axes are numbered 1, 2, 3 in ascending order of moment (I1 <= I2 <= I3); "
+        "numbers are in SI units as the labels say (kg, m, s, rad/s), or any consistent set.",
     )
     source = spin.add_mutually_exclusive_group(required=True)
     source.add_argument(
         "--moments",
         nargs=3,
         type=number("a positive finite number (a principal moment)", positive=True),
-        metavar=("I1", "I2", "I3"),
-        help="principal moments (any positive numbers; Euler's equations need no more)",
+        metavar=("IX", "IY", "IZ"),
+        help="the principal moments about the body's axes x, y, z (kg m^2): the body's axes "
+        "are principal, and given in ascending order they are I1, I2, I3 (any positive "
+        "numbers; Euler's equations need no more)",
     )
     source.add_argument(
         "--body",
         nargs="+",
         metavar="KIND NAME=VALUE",
-        help="a solid, e.g. 'cylinder mass=1 radius=0.1 length=0.5' (kinds and keys: "
-        + "; ".join(f"{kind} {' '.join(keys)}" for kind, keys in SOLIDS.items())
+        help="a solid, e.g. 'cylinder mass=1 radius=0.1 length=0.5' or 'cuboid mass=1 "
+        "size=0.1,0.2,0.5' (kinds and their keys as polhode.Body names them, each NAME=NUMBER, a "
+        "vector's NAME=X,Y,Z: "
+        + solid_forms()
         + "), or a mesh file: 'mesh path=part.stl density=2700' (or mass=M; scale=S, "
-        "shell=true optional; STL, OBJ, PLY, OFF, glTF/GLB)",
+        "shell=true optional; STL, OBJ, PLY, OFF, glTF/GLB). Its axes are those it is built "
+        "in (a solid's: its symmetry axis along z, a cuboid's size along x, y, z)",
     )
     spin.add_argument(
         "--omega",
         nargs=3,
         type=number("a finite number (a component of omega0, in body axes)"),
         required=True,
-        metavar=("W1", "W2", "W3"),
+        metavar=("WX", "WY", "WZ"),
+        help="omega0, the angular velocity at t = 0, in body axes x, y, z (rad/s)",
     )
     spin.add_argument(
-        "--t", type=number("a finite end time >= 0", minimum=0.0), required=True, help="end time"
+        "--t",
+        type=number("a finite end time >= 0", minimum=0.0),
+        required=True,
+        help="end time (s)",
     )
     spin.add_argument(
         "--points",
         type=integer(f"an integer from 2 to {MAX_POINTS}", 2, MAX_POINTS),
         default=1001,
-        help="output times (default 1001)",
+        help="output times, evenly spaced from 0 to --t (default 1001)",
     )
-    spin.add_argument("--method", default="auto", choices=ph.simulation.METHODS)
+    spin.add_argument(
+        "--method",
+        default="auto",
+        choices=ph.simulation.METHODS,
+        help="the method (default auto: the exact solution, or dop853 with rotors)",
+    )
     spin.add_argument(
         "--dt",
         type=number("a positive finite step", positive=True),
-        help=f"step of the fixed-step methods ({', '.join(FIXED_STEP)}; required by them)",
+        help=f"step (s) of the fixed-step methods ({', '.join(FIXED_STEP)}; required by them)",
     )
     spin.add_argument(
         "--order", type=int, choices=(2, 4, 6), help="order of --method splitting (default 4)"
@@ -120,9 +152,10 @@ def build_parser() -> argparse.ArgumentParser:
         names=WHEEL_FIELDS,
         fewest=4,
         metavar="NUMBER",
-        help="a reaction wheel, AX AY AZ INERTIA [RATE0 [TORQUE]]: its axis in body axes, its "
-        "axial inertia, its rate relative to the body at t = 0 (default 0) and a constant "
-        "motor torque on it (default 0); repeatable. The body's moments include it, locked",
+        help="a reaction wheel, AX AY AZ INERTIA [RATE0 [TORQUE]]: its axis in body axes x, "
+        "y, z, its axial inertia (kg m^2), its rate relative to the body at t = 0 (rad/s, "
+        "default 0) and a constant motor torque on it (N m, default 0); repeatable: wheel 1, "
+        "wheel 2, ... in the order given. The body's moments include it, locked",
     )
     spin.add_argument(
         "--damper",
@@ -132,17 +165,33 @@ def build_parser() -> argparse.ArgumentParser:
         names=DAMPER_FIELDS,
         fewest=2,
         metavar=("INERTIA", "DAMPING"),
-        help="a spherical (Kane) damper: the sphere's inertia and the viscous coefficient; "
-        "repeatable. The body's moments include it, locked. With rotors --method is auto "
-        "(dop853), dop853 or rk4",
+        help="a spherical (Kane) damper: the sphere's inertia (kg m^2) and the viscous "
+        "coefficient (N m s); repeatable: damper 1, damper 2, ... in the order given. The "
+        "body's moments include it, locked. With rotors --method is auto (dop853), dop853 or "
+        "rk4",
     )
     spin.add_argument(
         "--csv",
-        help="write t, omega and the quaternion (xyzw) to this file, and each rotor's rate "
-        "relative to the body (a wheel's about its axis: wheel1_rate; a damper's vector: "
-        "damper1_rate_x, _y, _z)",
+        metavar="FILE",
+        help="write the trajectory to this CSV file, each column's unit in its header: "
+        "'t (s)', omega in body axes ('omega_1 (rad/s)', _2, _3 where the body's axes are its "
+        "principal axes 1, 2, 3, else 'omega_x (rad/s)', _y, _z), the orientation as the "
+        "quaternion qx, qy, qz, qw (body to space, scalar last) and each rotor's rate "
+        "relative to the body ('wheel1_rate (rad/s)' about its axis; a damper's in body axes, "
+        "'damper1_rate_x (rad/s)', _y, _z); numbers as the shortest decimals that read back "
+        "to the same doubles",
     )
-    spin.add_argument("--plot", help="write omega and the invariant drift to this image (.png)")
+    spin.add_argument(
+        "--plot", metavar="FILE", help="write omega and the invariant drift to this image (.png)"
+    )
+    spin.add_argument(
+        "--html",
+        metavar="FILE",
+        help="write Poinsot's construction of the run to this HTML page: the body turning, its "
+        "energy ellipsoid rolling on the invariable plane, the polhode and the herpolhode, "
+        "animated (plotly.js embedded: opens offline in a browser; needs plotly, pip install "
+        "'polhode[plot]'). Not with --wheel or --damper",
+    )
     spin.set_defaults(run=spin_command.run)
     audit_parser = commands.add_parser(
         "audit",

@@ -1,5 +1,6 @@
-"""``polhode demo`` (the default command): principal axes of a few bodies, the tennis-racket
-flip of a T-handle, the major-axis rule with a damper, and their plots."""
+"""``polhode demo``: principal axes of a few bodies, the tennis-racket flip of a T-handle, the
+major-axis rule with a damper, their plots, the flip animated and Poinsot's construction of it
+(an HTML page)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,13 @@ from typing import Any
 import numpy as np
 
 import polhode as ph
-from polhode.cli._common import check_folder, plots_available
+from polhode.cli._common import (
+    axes_words,
+    check_folder,
+    plots_available,
+    scenes_available,
+    vector,
+)
 from polhode.invariants import max_relative_drift
 
 
@@ -42,18 +49,17 @@ def run(args: argparse.Namespace) -> int:
     plots = not args.no_plots and plots_available()
     if plots:
         check_folder("--out", args.out)
-    np.set_printoptions(precision=6, suppress=True)
-    print("polhode: principal moments (ascending) and axes (columns) about the centre of mass\n")
+    print(
+        "polhode: principal moments (ascending: I1 <= I2 <= I3) and principal axes 1, 2, 3 (in "
+        "the body's axes x, y, z) about the centre of mass\n"
+    )
     for name, body in _bodies():
         p = body.principal()
         print(f"{name}")
         print(f"  mass            {body.mass:.6g}")
-        print(f"  centre of mass  {body.center_of_mass}")
-        print(f"  moments         {p.moments}   multiplicity {p.multiplicity}")
-        for row in np.array2string(p.axes).splitlines():
-            print(
-                f"  axes            {row}" if row.startswith("[[") else f"                  {row}"
-            )
+        print(f"  centre of mass  {vector(body.center_of_mass)}")
+        print(f"  moments         {vector(p.moments)}   multiplicity {p.multiplicity}")
+        print(f"  axes            {axes_words(p.axes)}")
         print()
     _flip_demo()
     print()
@@ -63,6 +69,30 @@ def run(args: argparse.Namespace) -> int:
     elif not args.no_plots:
         print("\n(plots skipped: matplotlib is not installed; pip install 'polhode[plot]')")
     return 0
+
+
+def _poinsot(body: ph.Body, spin: Any, flip_interval: float, out: str) -> str | None:
+    """``poinsot.html``: Poinsot's construction of the T-handle's flip (polhode.plot.scene),
+    L pointing up; None (with a note) without plotly."""
+    if not scenes_available():
+        print("\n(poinsot.html skipped: plotly is not installed; pip install 'polhode[plot]')")
+        return None
+    from polhode import plot
+
+    sol = ph.simulate(body, spin, np.linspace(0.0, 2.2 * flip_interval, 1001), orientation0=_up(
+        body, spin
+    ))
+    path = os.path.join(out, "poinsot.html")
+    plot.scene(sol, body, path=path)
+    return path
+
+
+def _up(body: ph.Body, spin: Any) -> Any:
+    """The orientation that turns the body's angular momentum along the space z axis."""
+    from scipy.spatial.transform import Rotation
+
+    up, _ = Rotation.align_vectors([[0.0, 0.0, 1.0]], [body.angular_momentum_body(spin)])
+    return up
 
 
 def _demo_plots(out: str) -> None:
@@ -104,6 +134,9 @@ def _demo_plots(out: str) -> None:
     written.append(path)
     written.append(_flip_animation(t_handle, spin, a.flip_interval, out))
     print(f"\nplots written: {', '.join(written)}")
+    page = _poinsot(t_handle, spin, a.flip_interval, out)
+    if page is not None:
+        print(f"Poinsot's construction of the flip (open it in a browser): {page}")
 
 
 #: Frames of the demo's animation (two flips): enough to see the handle turn over, few enough
@@ -113,14 +146,10 @@ ANIMATION_FRAMES = 40
 
 def _flip_animation(body: ph.Body, spin: Any, flip_interval: float, out: str) -> str:
     """``tennis_racket.gif``: the T-handle's flip in space, L pointing up."""
-    from scipy.spatial.transform import Rotation
-
     from polhode import plot
 
-    # Turn the body so that its angular momentum points along the space z axis.
-    up, _ = Rotation.align_vectors([[0.0, 0.0, 1.0]], [body.angular_momentum_body(spin)])
     t = np.linspace(0.0, 2.2 * flip_interval, 4 * ANIMATION_FRAMES)
-    sol = ph.simulate(body, spin, t, orientation0=up)
+    sol = ph.simulate(body, spin, t, orientation0=_up(body, spin))
     path = os.path.join(out, "tennis_racket.gif")
     plot.animate(sol, body, frames=ANIMATION_FRAMES, interval=80, path=path)
     return path
@@ -167,7 +196,7 @@ def _damper_demo() -> None:
     )
     print(
         f"  angular momentum |L| fixed to {np.max(np.abs(ell / ell[0] - 1)):.1e}; at "
-        f"t = {sol.t[-1]:g} s omega = {np.array2string(w, precision=4)} (about the largest axis)"
+        f"t = {sol.t[-1]:g} s omega = {vector(w, 4)} rad/s (about the largest axis)"
     )
 
 

@@ -15,7 +15,8 @@ import numpy as np
 
 import polhode as ph
 from polhode._atoms import ase_readers, formula
-from polhode.cli._common import UsageError, check_file
+from polhode._formats import number
+from polhode.cli._common import UsageError, check_file, json_numbers
 
 #: ``polhode inertia``: robot descriptions by extension (then URDF or MJCF by the XML's root
 #: element), meshes by ``polhode.io.MESH_FORMATS``; any other file is a molecule read by ASE.
@@ -153,9 +154,12 @@ def _print_body(props: dict[str, Any]) -> None:
     print(f"{'centre of mass':{_LABEL}s}{_words(props['center_of_mass'])}")
     _print_matrix("inertia", props["inertia"])
     print(f"{'':{_LABEL}s}(about the centre of mass, in the file's axes; I_xy = -sum m x y)")
-    print(f"{'principal moments':{_LABEL}s}{_words(props['principal_moments'])}   (ascending)")
+    print(
+        f"{'principal moments':{_LABEL}s}{_words(props['principal_moments'])}   "
+        "(ascending: I1, I2, I3)"
+    )
     _print_matrix("principal axes", props["principal_axes"])
-    print(f"{'':{_LABEL}s}(the columns)")
+    print(f"{'':{_LABEL}s}(the columns: axes 1, 2, 3, in the file's axes)")
     _print_extras(props, "the file's axes")
 
 
@@ -231,15 +235,17 @@ def _molecule(args: argparse.Namespace, result: dict[str, Any]) -> tuple[ph.Body
 
 
 def _write_frames(path: str, series: ph.Principal) -> None:
-    """Each frame's principal moments and axes (followed from frame to frame) as CSV."""
-    header = ["frame", "moment_0", "moment_1", "moment_2"]
-    header += [f"axis_{k}_{c}" for k in range(3) for c in "xyz"]
-    axes = np.swapaxes(series.axes, 1, 2).reshape(-1, 9)  # axis 0's x, y, z, then axis 1's...
+    """Each frame's principal moments and axes (followed from frame to frame) as CSV: axes
+    numbered 1, 2, 3 as their moments ascend in frame 0, each column's unit in its header
+    (the axes' components are unit vectors' x, y, z in the file's axes)."""
+    header = ["frame", *(f"moment_{k} (u angstrom^2)" for k in (1, 2, 3))]
+    header += [f"axis_{k}_{c}" for k in (1, 2, 3) for c in "xyz"]
+    axes = np.swapaxes(series.axes, 1, 2).reshape(-1, 9)  # axes[:, :, 0]'s x, y, z, then ...
     with open(path, "w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(header)
         for t, (moments, row) in enumerate(zip(series.moments, axes, strict=True)):
-            writer.writerow([t, *(repr(float(x)) for x in (*moments, *row))])
+            writer.writerow([t, *(number(x) for x in (*moments, *row))])
 
 
 def _read_inertia(args: argparse.Namespace) -> tuple[dict[str, Any], Any]:
@@ -335,7 +341,7 @@ def run(args: argparse.Namespace) -> int:
     if series is not None:
         _write_frames(args.frames, series)
     if args.json:
-        print(json.dumps(result))
+        print(json.dumps(json_numbers(result)))
     else:
         _print_inertia(result)
     return 0

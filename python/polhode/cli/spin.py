@@ -1,22 +1,33 @@
-"""``polhode spin``: simulate one torque-free body, optionally with rotors, and report its motion
-and the drift of its invariants."""
+"""``polhode spin``: simulate one body free of external torques, optionally with internal rotors,
+report its motion and the drift of its invariants, and write it (CSV, a plot, Poinsot's scene)."""
 
 from __future__ import annotations
 
 import argparse
 import csv
 import os
+import re
 import sys
 import textwrap
 import time
+import warnings
 from typing import Any
 
 import numpy as np
 
 import polhode as ph
 from polhode import _core
+from polhode._formats import number
 from polhode._physics import breaks_triangle_inequality, wheel_rate
-from polhode.cli._common import UsageError, body_of, check_file, plots_available
+from polhode.cli._common import (
+    UsageError,
+    axes_words,
+    body_of,
+    check_file,
+    plots_available,
+    scenes_available,
+    vector,
+)
 from polhode.invariants import max_relative_drift
 
 #: The methods that take a fixed step ``--dt``; ``--order`` is the splitting's, ``--rtol``
@@ -73,9 +84,38 @@ def _check_spin(args: argparse.Namespace) -> list[ph.rotors.Rotor]:
         check_file("--csv", args.csv)
     if args.plot is not None:
         _check_plot(args.plot)
-        if args.csv is not None and os.path.abspath(args.csv) == os.path.abspath(args.plot):
-            raise UsageError("--plot", f"{args.plot!r} is also the --csv file.")
+    if args.html is not None:
+        _check_html(args, rotors)
+    written: dict[str, str] = {}
+    for option in ("--csv", "--plot", "--html"):
+        path = getattr(args, option[2:])
+        if path is not None:
+            same = written.get(os.path.abspath(path))
+            if same is not None:
+                raise UsageError(option, f"{path!r} is also the {same} file.")
+            written[os.path.abspath(path)] = option
     return rotors
+
+
+def _check_html(args: argparse.Namespace, rotors: list[ph.rotors.Rotor]) -> None:
+    """What :func:`polhode.plot.scene` refuses, refused before any work: rotors, a body at
+    rest; plotly importable and a file it can write."""
+    if rotors:
+        raise UsageError(
+            "--html",
+            f"Poinsot's construction is that of one rigid body, not with {_rotor_option(args)}: "
+            "the rotors exchange momentum with the body, whose own I omega is then not "
+            "conserved (--plot draws the run; polhode.plot.animate draws it turning).",
+        )
+    if not any(args.omega):
+        raise UsageError(
+            "--html",
+            "the body is at rest (--omega 0 0 0): no energy ellipsoid, no invariable plane to "
+            "draw.",
+        )
+    if not scenes_available():
+        raise UsageError("--html", "needs plotly: pip install 'polhode[plot]'.")
+    check_file("--html", args.html)
 
 
 #: ``--wheel AX AY AZ INERTIA [RATE0 [TORQUE]]``: the fields of :class:`polhode.rotors.Wheel`
@@ -100,7 +140,8 @@ def _spin_rotors(args: argparse.Namespace) -> list[ph.rotors.Rotor]:
                 rotors.append(make(values))
             except ph.PolhodeError as error:
                 numbers = " ".join(f"{v:g}" for v in values)
-                raise UsageError(option, f"{option} {numbers} (number {k}): {error}") from None
+                what = "wheel" if option == "--wheel" else "damper"
+                raise UsageError(option, f"{what} {k} ({option} {numbers}): {error}") from None
     return rotors
 
 
@@ -150,7 +191,7 @@ def _rotor_report(
         if isinstance(rotor, ph.rotors.Wheel):
             axis = rotor.axis / np.linalg.norm(rotor.axis)
             what = (
-                f"axis {np.array2string(axis, precision=6)}, inertia {rotor.inertia:g}, "
+                f"axis {vector(axis)} (body axes x, y, z), inertia {rotor.inertia:g}, "
                 f"rate0 {rotor.rate0:g}, torque {rotor.torque:g}"
             )
         else:
@@ -163,21 +204,42 @@ def _rotor_report(
             spin = float(wheel_rate(rotor, rate))
             lines.append(f"  {name:16s} {spin:.9g}   (about its axis)")
         else:
-            lines.append(f"  {name:16s} {rate}")
+            lines.append(f"  {name:16s} {vector(rate)}   (body axes x, y, z)")
     return lines
 
 
 def _rotor_columns(rotors: list[ph.rotors.Rotor]) -> list[str]:
     """The CSV's rotor columns: a wheel's rate about its axis, a damper's relative angular
-    velocity (body axes)."""
+    velocity (body axes), each with its unit."""
     columns = []
     for name, rotor in zip(_rotor_names(rotors), rotors, strict=True):
         stem = name.replace(" ", "")
         if isinstance(rotor, ph.rotors.Wheel):
-            columns.append(f"{stem}_rate")
+            columns.append(f"{stem}_rate (rad/s)")
         else:
-            columns += [f"{stem}_rate_x", f"{stem}_rate_y", f"{stem}_rate_z"]
+            columns += [f"{stem}_rate_{c} (rad/s)" for c in "xyz"]
     return columns
+
+
+def principal_labels(body: Any) -> bool:
+    """Whether the body's own axes are its principal axes 1, 2, 3 (moments ascending), so
+    that a vector in body axes has the components 1, 2, 3 (else x, y, z): principal moments
+    given in ascending order, or a Body whose principal axes are its own, in that order."""
+    if isinstance(body, ph.Body):
+        return bool(np.array_equal(body.principal().axes, np.eye(3)))
+    moments = np.asarray(body, dtype=float)
+    return bool(moments[0] <= moments[1] <= moments[2])
+
+
+def omega_columns(body: Any) -> list[str]:
+    """The CSV's omega columns: ``omega_1 (rad/s)``.. in principal axes, else ``omega_x``.."""
+    components = "123" if principal_labels(body) else "xyz"
+    return [f"omega_{c} (rad/s)" for c in components]
+
+
+def _axes_words(body: Any) -> str:
+    """How the report names the body's axes: principal axes 1, 2, 3 or body axes x, y, z."""
+    return "principal axes 1, 2, 3" if principal_labels(body) else "body axes x, y, z"
 
 
 def _rotor_values(sol: ph.Trajectory, rotors: list[ph.rotors.Rotor]) -> np.ndarray:
@@ -231,6 +293,12 @@ def run(args: argparse.Namespace) -> int:
     except ph.PolhodeError as error:
         if error.argument in option_of:
             raise UsageError(option_of[error.argument], str(error)) from None
+        rotor = re.match(r"rotors\[(\d+)\]", error.argument or "")
+        if rotor and int(rotor.group(1)) < len(rotors):
+            # A rotor's field, named as Python indexes it: named here as the report does.
+            name = _rotor_names(rotors)[int(rotor.group(1))]
+            message = str(error).replace(rotor.group(0), name)
+            raise UsageError(f"--{name.split()[0]}", message) from None
         raise
     assert sol.quaternion is not None
     if source == "--moments" and breaks_triangle_inequality(body):
@@ -240,8 +308,9 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     rest = a.regime == "rest"
-    np.set_printoptions(precision=6, suppress=True)
-    print(f"principal moments  {a.moments}")
+    print(f"principal moments  {vector(a.moments)}   (I1 <= I2 <= I3)")
+    if isinstance(body, ph.Body) and not principal_labels(body):
+        print(f"principal axes     {axes_words(body.principal().axes)}   (in body axes x, y, z)")
     if rest:
         print(f"regime             rest (omega0 = 0{'' if rotors else ': the body stays at rest'})")
     else:
@@ -274,7 +343,7 @@ def run(args: argparse.Namespace) -> int:
             )
         print("rotors:")
         print("\n".join(_rotor_report(sol, rotors, args.t)))
-    print(f"omega at t = {args.t:g}  {sol.omega[-1]}")
+    print(f"omega at t = {args.t:g}  {vector(sol.omega[-1])}   (rad/s, {_axes_words(body)})")
     print(
         f"method {sol.stats['method']}: {sol.stats['steps']} steps, "
         f"{sol.stats['evaluations']} evaluations, {elapsed * 1e3:.2f} ms"
@@ -319,19 +388,37 @@ def run(args: argparse.Namespace) -> int:
     print(f"  L in space       {drift['angular_momentum_space']:.2e}")
     if args.plot:
         _spin_plot(sol, args.plot)
+    if args.html:
+        _spin_scene(sol, body if isinstance(body, ph.Body) else None, args.html)
     if args.csv:
         with open(args.csv, "w", newline="") as handle:
             writer = csv.writer(handle)
-            header = ["t", "omega_x", "omega_y", "omega_z", "qx", "qy", "qz", "qw"]
+            header = ["t (s)", *omega_columns(body), "qx", "qy", "qz", "qw"]
             columns = [sol.t, sol.omega, sol.quaternion]
             if rotors:
                 header += _rotor_columns(rotors)
                 columns.append(_rotor_values(sol, rotors))
             writer.writerow(header)
             for row in np.column_stack(columns):
-                writer.writerow([repr(float(x)) for x in row])
+                writer.writerow([number(x) for x in row])
         print(f"trajectory written to {args.csv}")
     return 0
+
+
+def _spin_scene(sol: ph.Trajectory, body: ph.Body | None, path: str) -> None:
+    """Poinsot's construction of the run, as an HTML page; the scene's warnings (output times
+    too few or too far apart to draw the curves) as notes naming --points."""
+    from polhode import plot
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        plot.scene(sol, body, path=path)
+    for warning in caught:
+        print(
+            f"polhode spin: note: --html: {warning.message} (here: raise --points)",
+            file=sys.stderr,
+        )
+    print(f"Poinsot's construction written to {path}")
 
 
 def _spin_plot(sol: ph.Trajectory, path: str) -> None:
