@@ -53,6 +53,11 @@ class Body:
         # What it looks like (polhode._shapes), for drawing only; None: no geometry given.
         self._shape = shape
 
+    def __reduce__(self) -> tuple[type[Body], tuple[Any, ...]]:
+        # Pickling and copy.deepcopy, at every protocol: the core's stored numbers (bit for
+        # bit, checked again on loading) and the shape it was built from.
+        return (Body, (self._core, self._shape))
+
     # --- constructors ---------------------------------------------------------------------
 
     @classmethod

@@ -66,6 +66,11 @@ class Principal:
         self.axes = axes
         self.multiplicity = multiplicity
 
+    def __reduce__(self) -> tuple[type[Principal], tuple[Any, ...]]:
+        # Pickling and copying at every protocol (a class with __slots__ has no default below
+        # protocol 2).
+        return (Principal, (self.moments, self.axes, self.multiplicity))
+
     @property
     def rotation(self) -> Rotation:
         """The principal frame as a scipy Rotation (principal to body coordinates)."""
