@@ -3,12 +3,14 @@ sink of a damper, work-precision, and the error of the perturbation expansion.""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode._coerce import as_integer
+from polhode.errors import PolhodeError
 from polhode.invariants import relative_drift
 from polhode.plot._axes import AXIS_ROLES, FLOOR, new_axes, single
 
@@ -235,17 +237,28 @@ def perturbation_errors(
         raise ValueError(f"Expected `direction` to be three finite numbers, got {direction!r}.")
     if isinstance(axis, bool) or axis not in (0, 1, 2):
         raise ValueError(f"Expected `axis` to be 0, 1 or 2, got {axis!r}.")
+    if isinstance(orders, str | bytes) or not isinstance(orders, Iterable):
+        raise TypeError(f"Expected `orders` to be a sequence of 0, 1, 2, got {orders!r}.")
+    checked = [as_integer("orders", order, allowed=(0, 1, 2)) for order in orders]
     omega0 = epsilons[:, None] * shape
     omega0[:, axis] = spin
     exact = simulate(moments, omega0, times, method="exact", orientation=False).omega
     errors = {}
-    for order in orders:
-        errors[int(order)] = np.array(
-            [
-                np.max(np.abs(perturbation(moments, w, times, axis=axis, order=order) - e))
-                for w, e in zip(omega0, exact, strict=True)
-            ]
-        )
+    for order in checked:
+        values = []
+        for eps_k, w, e in zip(epsilons, omega0, exact, strict=True):
+            try:
+                expansion = perturbation(moments, w, times, axis=axis, order=order)
+            except PolhodeError as error:
+                if error.argument != "omega0":
+                    raise
+                # omega0 is made of eps here: an eps outside the expansion's domain.
+                raise type(error)(
+                    f"Invalid `eps`: {eps_k:g} is outside the expansion's domain ({error})",
+                    argument="eps",
+                ) from None
+            values.append(np.max(np.abs(expansion - e)))
+        errors[order] = np.array(values)
     return errors
 
 
