@@ -11,6 +11,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode._coerce import as_float_array
+from polhode.errors import PolhodeError, ShapeError
+
 __all__ = ["angular_momentum_space", "max_relative_drift", "relative_drift"]
 
 Array = NDArray[np.float64]
@@ -34,8 +37,39 @@ def angular_momentum_space(traj: Any) -> Array | None:
     ...                                    orientation=False)) is None
     True
     """
-    value = traj.angular_momentum_space
-    return None if value is None else np.asarray(value, dtype=np.float64)
+    value = _field(traj, "angular_momentum_space")
+    return None if value is None else _array(value, "angular_momentum_space", 2)
+
+
+#: What a trajectory must have for the functions here (polhode.Trajectory has them all).
+_FIELDS = ("energy", "angular_momentum_body", "angular_momentum_space")
+
+
+def _field(traj: Any, name: str) -> Any:
+    """``traj.name``, or a TypeError naming ``traj`` for an object that is no trajectory."""
+    try:
+        return getattr(traj, name)
+    except AttributeError:
+        raise TypeError(
+            "Expected `traj` to be a polhode.Trajectory (or an object with "
+            f"{', '.join(_FIELDS)}), got {type(traj).__name__}."
+        ) from None
+
+
+def _array(value: Any, name: str, trailing: int) -> Array:
+    """A trajectory's field as float64, with at least ``trailing`` dimensions (times, and 3
+    for a vector); errors name ``traj`` and the field."""
+    try:
+        array = as_float_array(f"traj.{name}", value)
+    except PolhodeError as error:  # named by the field in the message, `traj` the argument
+        raise type(error)(str(error), argument="traj") from None
+    if array.ndim < trailing or (trailing == 2 and array.shape[-1] != 3):
+        shape = "(..., M, 3)" if trailing == 2 else "(..., M)"
+        raise ShapeError(
+            f"Expected `traj.{name}` to have shape {shape}, got {tuple(array.shape)}.",
+            argument="traj",
+        )
+    return array
 
 
 def _against_first(error: Array, first: Array) -> Array:
@@ -79,11 +113,21 @@ def relative_drift(traj: Any) -> dict[str, Array]:
     >>> sorted(drift), drift["energy"].shape, float(drift["energy"][0])
     (['angular_momentum_norm', 'angular_momentum_space', 'energy'], (11,), 0.0)
     """
-    energy = np.asarray(traj.energy, dtype=np.float64)
-    out = {"energy": _against_first(np.abs(energy - energy[..., :1]), energy[..., :1])}
-    norm = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
-    out["angular_momentum_norm"] = _against_first(np.abs(norm - norm[..., :1]), norm[..., :1])
+    for name in _FIELDS:
+        _field(traj, name)  # a TypeError before any work for an object that is no trajectory
+    energy = _array(traj.energy, "energy", 1)
+    body = _array(traj.angular_momentum_body, "angular_momentum_body", 2)
     space = angular_momentum_space(traj)
+    for name, vector in (("angular_momentum_body", body), ("angular_momentum_space", space)):
+        if vector is not None and vector.shape[:-1] != energy.shape:
+            raise ShapeError(
+                f"Expected `traj.{name}` to have shape {energy.shape + (3,)} to match "
+                f"`traj.energy`, got {vector.shape}.",
+                argument="traj",
+            )
+    out = {"energy": _against_first(np.abs(energy - energy[..., :1]), energy[..., :1])}
+    norm = np.linalg.norm(body, axis=-1)
+    out["angular_momentum_norm"] = _against_first(np.abs(norm - norm[..., :1]), norm[..., :1])
     if space is not None:
         first = space[..., :1, :]
         out["angular_momentum_space"] = _against_first(
