@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_array, as_integer
+from polhode._files import keeping_interrupts
 from polhode.errors import ArgumentError, FileFormatError, ShapeError
 
 #: The named choices of atomic masses (``Body.from_atoms(masses=...)``).
@@ -182,7 +183,8 @@ def atom_masses(symbols: Any, masses: Any) -> tuple[list[Any], NDArray[np.float6
 def ase_readers() -> Any:
     """ASE's readers (``ase.io``), or an ImportError saying which extra installs ASE."""
     try:
-        import ase.io
+        with keeping_interrupts("ase"):
+            import ase.io
     except ImportError as error:
         raise ImportError(
             "Reading a molecule from a file needs ASE: pip install 'polhode[chem]'."
@@ -290,7 +292,8 @@ def _read_file(molecule: Any, format: str | None, conformer: int) -> tuple[list[
 
     def read(which: Any) -> Any:
         try:
-            return ase_io.read(path, index=which, format=format)
+            with keeping_interrupts("ase"):
+                return ase_io.read(path, index=which, format=format)
         except Exception as error:  # ASE's readers raise whatever their parsers do
             raise FileFormatError(
                 f"Could not read a molecule from {path!r} (`molecule`): {error}",

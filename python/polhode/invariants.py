@@ -6,11 +6,13 @@ the command line, the benchmarks) computes it here.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from polhode._chunks import CHUNK, spans
 from polhode._coerce import as_float_array
 from polhode.errors import PolhodeError, ShapeError
 
@@ -125,14 +127,31 @@ def relative_drift(traj: Any) -> dict[str, Array]:
                 f"`traj.energy`, got {vector.shape}.",
                 argument="traj",
             )
-    out = {"energy": _against_first(np.abs(energy - energy[..., :1]), energy[..., :1])}
-    norm = np.linalg.norm(body, axis=-1)
-    out["angular_momentum_norm"] = _against_first(np.abs(norm - norm[..., :1]), norm[..., :1])
+    keys = ["energy", "angular_momentum_norm"]
     if space is not None:
-        first = space[..., :1, :]
-        out["angular_momentum_space"] = _against_first(
-            np.linalg.norm(space - first, axis=-1), np.linalg.norm(first, axis=-1)
-        )
+        keys.append("angular_momentum_space")
+    out = {key: np.empty(energy.shape) for key in keys}
+    # Bodies (rows) and times in blocks of about CHUNK values (polhode._chunks: Ctrl-C is not
+    # held up by one numpy call over a long trajectory); each value as the whole at once.
+    times = energy.shape[-1]
+    rows = energy.reshape(math.prod(energy.shape[:-1]), times)
+    flat = {key: value.reshape(rows.shape) for key, value in out.items()}
+    body_rows = body.reshape(*rows.shape, 3)
+    space_rows = None if space is None else space.reshape(*rows.shape, 3)
+    for bodies in spans(len(rows), max(1, CHUNK // max(times, 1))):
+        e0 = rows[bodies, :1]
+        n0 = np.linalg.norm(body_rows[bodies, :1], axis=-1)
+        s0 = None if space_rows is None else space_rows[bodies, :1, :]
+        for span in spans(times):
+            e = rows[bodies, span]
+            flat["energy"][bodies, span] = _against_first(np.abs(e - e0), e0)
+            n = np.linalg.norm(body_rows[bodies, span], axis=-1)
+            flat["angular_momentum_norm"][bodies, span] = _against_first(np.abs(n - n0), n0)
+            if space_rows is not None:
+                flat["angular_momentum_space"][bodies, span] = _against_first(
+                    np.linalg.norm(space_rows[bodies, span] - s0, axis=-1),
+                    np.linalg.norm(s0, axis=-1),
+                )
     return out
 
 
