@@ -398,3 +398,18 @@ def test_a_dask_cluster_of_two_processes():
         trajectory = client.submit(ph.simulate, remote, OMEGA, TIMES, pure=False).result()
     check_worker_results(results)
     assert bits(trajectory.omega) == bits(ph.simulate(BODIES["far"], OMEGA, TIMES).omega)
+
+
+class Wheelbarrow(ph.Body):
+    """A user's subclass of Body."""
+
+    __slots__ = ()
+
+
+def test_a_subclass_of_body_pickles_as_itself():
+    body = Wheelbarrow.cylinder(3.0, 0.2, 0.1)
+    assert type(body) is Wheelbarrow
+    again = pickle.loads(pickle.dumps(body))
+    assert type(again) is Wheelbarrow
+    assert bits(again._core.parts()) == bits(body._core.parts())
+    assert type(copy.deepcopy(body)) is Wheelbarrow

@@ -56,7 +56,7 @@ class Body:
     def __reduce__(self) -> tuple[type[Body], tuple[Any, ...]]:
         # Pickling and copy.deepcopy, at every protocol: the core's stored numbers (bit for
         # bit, checked again on loading) and the shape it was built from.
-        return (Body, (self._core, self._shape))
+        return (type(self), (self._core, self._shape))
 
     # --- constructors ---------------------------------------------------------------------
 

@@ -69,7 +69,7 @@ class Principal:
     def __reduce__(self) -> tuple[type[Principal], tuple[Any, ...]]:
         # Pickling and copying at every protocol (a class with __slots__ has no default below
         # protocol 2).
-        return (Principal, (self.moments, self.axes, self.multiplicity))
+        return (type(self), (self.moments, self.axes, self.multiplicity))
 
     @property
     def rotation(self) -> Rotation:
