@@ -175,7 +175,9 @@ def perturbation(moments: Any, omega0: Any, t: Any, *, axis: int | None = None, 
             out[:, j] = v
             if order == 2:
                 out[:, k] += (ii - ij) / ik * uv_integral
-            finite = finite and bool(np.isfinite(out).all())
+            if not np.isfinite(out).all():
+                finite = False
+                break
     if not finite:
         raise NonFiniteError(
             "The perturbation expansion overflows double precision with these `moments` and "
