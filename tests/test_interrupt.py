@@ -638,3 +638,50 @@ def test_ctrl_c_during_trimesh_import_is_not_lost(tmp_path):
 
 
 EPS_64 = float(np.finfo(np.float64).eps)
+
+
+def test_keeping_interrupts_raises_a_swallowed_ctrl_c_and_forgets_the_half_imported(tmp_path):
+    # A package that imports a part inside `except BaseException` (as trimesh does), the part
+    # sending SIGINT to the process while it is imported (the first time only): the interrupt
+    # is raised at the end of the block, the next import in the block is cut short, and the
+    # package, left with a placeholder, is forgotten, so that the next import is whole.
+    from polhode._files import keeping_interrupts
+
+    package = tmp_path / "swallower"
+    package.mkdir()
+    (package / "__init__.py").write_text(
+        "try:\n"
+        "    from . import part\n"
+        "except BaseException:\n"
+        "    part = None\n"
+        "from . import after\n"
+    )
+    flag = tmp_path / "signal-once"
+    (package / "part.py").write_text(
+        "import os, signal\n"
+        f"if not os.path.exists({str(flag)!r}):\n"
+        f"    open({str(flag)!r}, 'w').close()\n"
+        "    os.kill(os.getpid(), signal.SIGINT)\n"
+        "VALUE = 42\n"
+    )
+    (package / "after.py").write_text("AFTER = True\n")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with keeping_interrupts("swallower"):
+                __import__("swallower")
+        assert not any(name.split(".")[0] == "swallower" for name in sys.modules)
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        with keeping_interrupts("swallower"):
+            module = __import__("swallower")
+        assert module.part.VALUE == 42 and module.after.AFTER
+        # Without the guard the same package swallows the interrupt for good.
+        for name in [n for n in sys.modules if n.split(".")[0] == "swallower"]:
+            del sys.modules[name]
+        flag.unlink()
+        lost = __import__("swallower")
+        assert lost.part is None  # the placeholder: what trimesh kept for cKDTree
+    finally:
+        sys.path.remove(str(tmp_path))
+        for name in [n for n in sys.modules if n.split(".")[0] == "swallower"]:
+            del sys.modules[name]
