@@ -32,6 +32,12 @@ settings.register_profile(
 )
 # CI (CI=true) runs four times the examples of a local run: about a minute on 2 cores.
 settings.register_profile("polhode-ci", parent=settings.get_profile("polhode"), max_examples=400)
+# benchmarks/fuzz_thorough.py, outside CI: POLHODE_FUZZ_EXAMPLES examples per property.
+settings.register_profile(
+    "polhode-fuzz",
+    parent=settings.get_profile("polhode"),
+    max_examples=int(os.environ.get("POLHODE_FUZZ_EXAMPLES", "20000")),
+)
 _DEFAULT_PROFILE = "polhode-ci" if os.environ.get("CI", "").lower() in ("1", "true") else "polhode"
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _DEFAULT_PROFILE))
 

@@ -1836,6 +1836,969 @@ CATALOGUE.append(Row("cli/python -m polhode --version", "cli", _subprocess_versi
 
 
 # ---------------------------------------------------------------------------------------------
+# 11. Issue 28, and a wider probe: invariants, molecules, files (io), argument types of simulate
+#     and analyze, masked arrays and numbers beyond double precision everywhere, pickling
+# ---------------------------------------------------------------------------------------------
+
+#: The rows from here on are issue 28's: its cases and a wider probe of the public API
+#: (``python tests/catalogue_outcomes.py`` counts their outcomes on any version of polhode).
+ISSUE28_FIRST_ROW = len(CATALOGUE)
+BIG = 2**2000  # an integer beyond double precision: float(BIG) raises OverflowError
+
+
+def masked(values, mask):
+    return np.ma.array(np.asarray(values, dtype=float), mask=mask)
+
+
+def trajectory_like(energy, body, space=None):
+    """Any object with a trajectory's three fields (what polhode.invariants documents)."""
+    return types.SimpleNamespace(
+        energy=energy, angular_momentum_body=body, angular_momentum_space=space
+    )
+
+
+def assert_equal(actual, expected, what=""):
+    """Equal exactly (the reference is exact in doubles)."""
+    assert np.array_equal(np.asarray(actual), np.asarray(expected)), (
+        f"{what}: {np.asarray(actual).tolist()} != {np.asarray(expected).tolist()}"
+    )
+
+
+def keys_values(expected: dict):
+    """A dict of arrays (or floats) exactly equal to ``expected``, key by key."""
+
+    def check(result):
+        assert sorted(result) == sorted(expected), (sorted(result), sorted(expected))
+        for key, value in expected.items():
+            assert_equal(result[key], value, key)
+
+    return check
+
+
+# --- invariants -------------------------------------------------------------------------------
+
+area = "invariants"
+from polhode import invariants as INV  # noqa: E402
+
+_TRAJ = ph.simulate(M123, W, TIMES, method="rk4", dt=0.1)
+for _name, _function in (
+    ("max_relative_drift", INV.max_relative_drift),
+    ("relative_drift", INV.relative_drift),
+    ("angular_momentum_space", INV.angular_momentum_space),
+):
+    for _label, _bad in (("'x'", "x"), ("None", None), ("3", 3), ("a Body", BOX),
+                         ("a dict", {"energy": [1.0]}), ("omega array", np.zeros((4, 3)))):
+        err(area, f"{_name}({_label})", lambda f=_function, b=_bad: f(b), TypeError, "traj")
+err(area, "energy of strings", lambda: INV.relative_drift(
+    trajectory_like("abc", np.zeros((3, 3)))), TypeError, "traj.energy")
+err(area, "energy beyond doubles", lambda: INV.relative_drift(
+    trajectory_like([BIG, 1], np.zeros((2, 3)))), ph.NonFiniteError, "traj")
+err(area, "masked energy", lambda: INV.relative_drift(
+    trajectory_like(masked([1.0, 2.0], [0, 1]), np.zeros((2, 3)))), ph.ArgumentError, "traj")
+err(area, "L body (M, 2)", lambda: INV.relative_drift(
+    trajectory_like([1.0, 2.0], np.zeros((2, 2)))), ph.ShapeError, "traj")
+err(area, "L body of other times", lambda: INV.relative_drift(
+    trajectory_like([1.0, 2.0], np.zeros((3, 3)))), ph.ShapeError, "traj")
+err(area, "L space of other times", lambda: INV.relative_drift(
+    trajectory_like([1.0, 2.0], np.zeros((2, 3)), np.zeros((5, 3)))), ph.ShapeError, "traj")
+err(area, "L space of strings", lambda: INV.angular_momentum_space(
+    trajectory_like([1.0], np.zeros((1, 3)), "up")), TypeError, "traj.angular_momentum_space")
+# Exact values: the drifts of hand-made fields (|T - T0| / |T0|, ||L| - |L0|| / |L0|).
+_E = [2.0, 3.0, 1.0]
+_LB = [[3.0, 4.0, 0.0], [0.0, 0.0, 10.0], [6.0, 8.0, 0.0]]  # |L| = 5, 10, 10
+_LS = [[0.0, 0.0, 5.0], [0.0, 0.0, 5.0], [0.0, 5.0, 5.0]]  # |L - L0| = 0, 0, 5
+val(area, "relative_drift of given fields",
+    lambda: INV.relative_drift(trajectory_like(_E, _LB, _LS)),
+    keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0],
+                 "angular_momentum_space": [0.0, 0.0, 1.0]}), "exact quotients")
+val(area, "relative_drift without L in space",
+    lambda: INV.relative_drift(trajectory_like(_E, _LB)),
+    keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0]}),
+    "exact quotients, no space key")
+val(area, "max_relative_drift of given fields",
+    lambda: INV.max_relative_drift(trajectory_like(_E, _LB, _LS)),
+    keys_values({"energy": 0.5, "angular_momentum_norm": 1.0, "angular_momentum_space": 1.0}),
+    "exact quotients")
+val(area, "a body at rest drifts by absolute errors",
+    lambda: INV.relative_drift(trajectory_like([0.0, 0.25], [[0.0] * 3, [0.0, 0.0, 0.5]])),
+    keys_values({"energy": [0.0, 0.25], "angular_momentum_norm": [0.0, 0.5]}),
+    "the numerator where the first value is 0")
+val(area, "a batch decides body by body",
+    lambda: INV.relative_drift(trajectory_like([[2.0, 1.0], [0.0, 3.0]],
+                                               [[[1.0, 0, 0], [2.0, 0, 0]], [[0.0] * 3] * 2])),
+    keys_values({"energy": [[0.0, 0.5], [0.0, 3.0]],
+                 "angular_momentum_norm": [[0.0, 1.0], [0.0, 0.0]]}), "per-body quotients")
+val(area, "max of an empty batch is 0",
+    lambda: INV.max_relative_drift(trajectory_like(np.zeros((0, 4)), np.zeros((0, 4, 3)))),
+    keys_values({"energy": 0.0, "angular_momentum_norm": 0.0}), "no entries: no drift")
+val(area, "angular_momentum_space without orientation is None",
+    lambda: INV.angular_momentum_space(ph.simulate(M123, W, 1.0, orientation=False)),
+    lambda r: assert_true(r is None, repr(r)), "orientation=False keeps no L in space")
+val(area, "a sphere's exact motion drifts by nothing",
+    lambda: INV.max_relative_drift(ph.simulate((2.0, 2.0, 2.0), W, TIMES)),
+    lambda r: assert_true(max(r.values()) <= 4 * EPS, r), "omega constant: T, |L|, L fixed")
+val(area, "masked fields with nothing masked",
+    lambda: INV.relative_drift(trajectory_like(masked(_E, [0, 0, 0]), _LB)),
+    keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0]}),
+    "the data of an unmasked masked array")
+
+# --- numbers beyond double precision, masked arrays: every way arrays and numbers come in ------
+
+area = "constructors"
+for _name, _call, _argument in (
+    ("sphere mass 2**2000", lambda: ph.Body.sphere(mass=BIG, radius=1.0), "mass"),
+    ("sphere radius 2**2000", lambda: ph.Body.sphere(1.0, BIG), "radius"),
+    ("cylinder length -2**2000", lambda: ph.Body.cylinder(1.0, 0.1, -BIG), "length"),
+    ("solid torus major_radius 2**2000",
+     lambda: ph.Body.solid("torus", 1.0, major_radius=BIG, minor_radius=1.0), "major_radius"),
+    ("cuboid size [2**2000, 1, 1]", lambda: ph.Body.cuboid(1.0, [BIG, 1, 1]), "size"),
+    ("sphere mass Fraction 10**400", lambda: ph.Body.sphere(Fraction(10**400, 3), 1.0), "mass"),
+    ("point_masses masses [2**2000]", lambda: PM([BIG], [[0, 0, 0]]), "masses"),
+    ("point_masses positions 2**2000", lambda: PM([1.0], [[0, BIG, 0]]), "positions"),
+    ("from_inertia mass 2**2000", lambda: FI(BIG, np.eye(3)), "mass"),
+    ("from_inertia tensor 2**2000", lambda: FI(1.0, [[BIG, 0, 0], [0, 1, 0], [0, 0, 1]]),
+     "inertia"),
+    ("from_urdf_inertia izz 2**2000", lambda: ph.Body.from_urdf_inertia(
+        1.0, ixx=1, ixy=0, ixz=0, iyy=1, iyz=0, izz=BIG), "izz"),
+    ("mesh density 2**2000", lambda: MESH(TET_V, TET_F, density=BIG), "density"),
+    ("mesh vertices 2**2000", lambda: MESH([[0, 0, 0], [BIG, 0, 0], [0, 1, 0], [0, 0, 1]],
+                                           TET_F, density=1.0), "vertices"),
+):
+    err(area, _name, _call, ph.NonFiniteError, _argument)
+for _name, _call, _argument in (
+    ("point_masses masses masked", lambda: PM(masked([1.0, 2.0], [0, 1]), np.eye(2, 3)),
+     "masses"),
+    ("point_masses positions masked", lambda: PM([1.0, 2.0], masked(np.eye(2, 3), np.eye(2, 3))),
+     "positions"),
+    ("from_inertia inertia masked", lambda: FI(1.0, masked(np.eye(3), np.eye(3))), "inertia"),
+    ("from_inertia centre masked", lambda: FI(1.0, np.eye(3), masked([0, 0, 1], [1, 0, 0])),
+     "center_of_mass"),
+    ("cuboid size masked", lambda: ph.Body.cuboid(1.0, masked([1, 2, 3], [0, 0, 1])), "size"),
+    ("sphere mass np.ma.masked", lambda: ph.Body.sphere(np.ma.masked, 1.0), "mass"),
+    ("mesh faces masked", lambda: MESH(TET_V, np.ma.array(TET_F, mask=TET_F == 3), density=1.0),
+     "faces"),
+    ("mesh vertices masked", lambda: MESH(masked(TET_V, TET_V > 0.5), TET_F, density=1.0),
+     "vertices"),
+    ("from_fullinertia masked", lambda: ph.Body.from_fullinertia(
+        1.0, masked([1, 1, 1, 0, 0, 0], [0, 0, 0, 1, 0, 0])), "fullinertia"),
+    ("from_spatial_inertia masked", lambda: ph.Body.from_spatial_inertia(
+        masked(np.eye(6), np.eye(6))), "matrix"),
+):
+    err(area, _name, _call, ph.ArgumentError, _argument)
+val(area, "sphere mass np.array(2.0)", lambda: ph.Body.sphere(np.array(2.0), 0.5),
+    lambda b: close(b.inertia, np.eye(3) * 0.2, EPS), "2/5 m r^2")
+val(area, "sphere mass Fraction(1, 3)", lambda: ph.Body.sphere(Fraction(1, 3), 3.0),
+    lambda b: close(b.inertia, np.eye(3) * 1.2, 2 * EPS), "2/5 (1/3) 9")
+val(area, "sphere mass 10**300 (an int within doubles)", lambda: ph.Body.sphere(10**300, 1e-100),
+    lambda b: close(b.inertia, np.eye(3) * 0.4e100, 4 * EPS), "2/5 m r^2")
+val(area, "point_masses of integer arrays", lambda: PM(np.array([1, 3]), np.array([[0, 0, 0],
+                                                                              [4, 0, 0]])),
+    lambda b: (close(b.center_of_mass, [3.0, 0, 0], 0.0),
+               close(b.inertia, np.diag([0.0, 12.0, 12.0]), EPS)),
+    "m1 m2 d^2 / (m1 + m2) = 12")
+val(area, "point_masses masked with nothing masked",
+    lambda: PM(masked([1.0, 3.0], [0, 0]), masked([[0, 0, 0], [4, 0, 0]], np.zeros((2, 3)))),
+    lambda b: close(b.inertia, np.diag([0.0, 12.0, 12.0]), EPS), "the data of the arrays")
+err(area, "solid kind None", lambda: ph.Body.solid(None, 1.0), TypeError, "kind")
+err(area, "from_urdf_inertia ixx None", lambda: ph.Body.from_urdf_inertia(
+    1.0, ixx=None, ixy=0, ixz=0, iyy=1, iyz=0, izz=1), TypeError, "ixx")
+err(area, "from_spatial_inertia convention 3",
+    lambda: ph.Body.from_spatial_inertia(np.eye(6), convention=3), ph.ArgumentError, "convention")
+err(area, "from_spatial_inertia rtol 'x'",
+    lambda: ph.Body.from_spatial_inertia(np.eye(6), rtol="x"), TypeError, "rtol")
+
+# The componentwise tensor of a needle and of points just off an axis (issue 28; exact values
+# in rational arithmetic: tests/test_tensor_components.py).
+_NEEDLE = (1.0, 1e-8, 1.0)
+_AXIAL = Fraction(1.0) * Fraction(1e-8) ** 2 / 2  # m r^2 / 2, exactly, of the doubles given
+
+
+def relative_to(exact_value, bound=16 * EPS, what=""):
+    def check(x):
+        error = abs(Fraction(float(x)) - exact_value) / exact_value
+        assert error <= bound, f"{what}: {float(x)!r} for {float(exact_value)!r}"
+
+    return check
+
+
+val(area, "needle inertia[2, 2]", lambda: ph.Body.cylinder(*_NEEDLE).inertia[2, 2],
+    relative_to(_AXIAL), "m r^2 / 2 in rationals")
+val(area, "needle to_urdf_inertia izz", lambda: ph.Body.cylinder(*_NEEDLE).to_urdf_inertia()["izz"],
+    relative_to(_AXIAL), "m r^2 / 2 in rationals")
+val(area, "needle kinetic energy about its axis",
+    lambda: ph.Body.cylinder(*_NEEDLE).kinetic_energy([0.0, 0.0, 3.0]),
+    relative_to(_AXIAL * 9 / 2), "I_zz w^2 / 2 in rationals")
+val(area, "needle spatial inertia about a point on its axis",
+    lambda: ph.Body.cylinder(*_NEEDLE).spatial_inertia([0.0, 0.0, 0.3])[2, 2],
+    relative_to(_AXIAL), "I_zz + m (d_x^2 + d_y^2) = I_zz")
+_OFF = 1e-8
+_FOUR = [[_OFF, 0, 0.5], [-_OFF, 0, -0.5], [0, _OFF, 0.2], [0, -_OFF, -0.2]]
+val(area, "four points 1e-8 off the z axis: inertia[2, 2]",
+    lambda: PM([1.0] * 4, _FOUR).inertia[2, 2], relative_to(4 * Fraction(_OFF) ** 2),
+    "sum m (x^2 + y^2) in rationals")
+val(area, "simulate of a needle's tensor keeps its energy",
+    lambda: ph.simulate(ph.Body.cylinder(*_NEEDLE).inertia, [0.0, 0.0, 2.0], [0.0, 1.0]).energy,
+    lambda e: [relative_to(_AXIAL * 2, 64 * EPS)(x) for x in e], "I_zz w^2 / 2")
+
+# Pickling and deep copies (issue 28): the round trip is the body, to its closed form.
+area = "body"
+import copy  # noqa: E402
+import pickle  # noqa: E402
+
+for _label, _copy in (("pickle", lambda b: pickle.loads(pickle.dumps(b))),
+                      ("deepcopy", copy.deepcopy), ("pickle protocol 0",
+                                                    lambda b: pickle.loads(pickle.dumps(b, 0)))):
+    val(area, f"needle after {_label}", lambda c=_copy: c(ph.Body.cylinder(*_NEEDLE)).inertia[2, 2],
+        relative_to(_AXIAL), "m r^2 / 2 in rationals")
+    val(area, f"far composite after {_label}",
+        lambda c=_copy: c(BOX.translated([1e8, 0.0, 0.0]) + ph.Body.sphere(1e-12, 1.0)),
+        composite_check([ref.translate(BOX_REF, [1e8, 0.0, 0.0]), ref.sphere(1e-12, 1.0)],
+                        rtol=1e-8), "reference composition (the offset costs 1e8 eps)")
+    val(area, f"Principal after {_label}", lambda c=_copy: c(ph.principal(SPD)),
+        principal_check(SPD), "mpmath eigenvalues")
+    val(area, f"Trajectory after {_label}", lambda c=_copy: c(ph.simulate((2.0,) * 3, W, TIMES)),
+        lambda sol: (close(sol.omega, sphere_motion(W, TIMES)[0], 0.0),
+                     same_rotation(sol.quaternion, sphere_motion(W, TIMES)[1], 16 * EPS)),
+        "a sphere: omega constant, q = exp(omega t / 2)")
+    val(area, f"BodyFixed after {_label} stays read-only",
+        lambda c=_copy: c(TQ.BodyFixed([0.0, 0.0, 1.0])).torque.flags.writeable,
+        lambda w: assert_true(w is False, repr(w)), "models are immutable")
+err(area, "inertia_about point masked", lambda: BOX.inertia_about(masked([0, 0, 1], [1, 0, 0])),
+    ph.ArgumentError, "point")
+err(area, "translated masked", lambda: BOX.translated(masked([0, 0, 1], [0, 1, 0])),
+    ph.ArgumentError, "offset")
+err(area, "translated 2**2000", lambda: BOX.translated([BIG, 0, 0]), ph.NonFiniteError, "offset")
+err(area, "rotated masked quaternion", lambda: BOX.rotated(masked([0, 0, 0, 1], [1, 0, 0, 0])),
+    ph.ArgumentError, "rotation")
+err(area, "scaled mass_scale 2**2000", lambda: BOX.scaled(BIG), ph.NonFiniteError, "mass_scale")
+err(area, "scaled length_scale -2**2000", lambda: BOX.scaled(1.0, -BIG), ph.NonFiniteError,
+    "length_scale")
+err(area, "kinetic_energy omega masked", lambda: BOX.kinetic_energy(masked(W, [0, 0, 1])),
+    ph.ArgumentError, "omega")
+err(area, "kinetic_energy omega 2**2000", lambda: BOX.kinetic_energy([BIG, 0, 0]),
+    ph.NonFiniteError, "omega")
+err(area, "angular_momentum_body omega masked",
+    lambda: BOX.angular_momentum_body(masked(W, [1, 0, 0])), ph.ArgumentError, "omega")
+err(area, "spatial_inertia point masked", lambda: BOX.spatial_inertia(masked([0, 0, 1], [1, 0, 0])),
+    ph.ArgumentError, "point")
+err(area, "spatial_inertia inverse 1", lambda: BOX.spatial_inertia(inverse=1), TypeError, "inverse")
+err(area, "principal rtol 2**2000", lambda: BOX.principal(rtol=BIG), ph.NonFiniteError, "rtol")
+val(area, "inertia_about a masked point with nothing masked",
+    lambda: BOX.inertia_about(masked([0.0, 0.0, 1.0], [0, 0, 0])),
+    lambda i: close(i, ref.parallel_axis(BOX_REF.inertia, 2.0, np.zeros(3), [0.0, 0.0, 1.0]),
+                    4 * EPS), "parallel axis")
+
+# --- principal() and point_masses_inertia(): options and array kinds -------------------------
+
+area = "principal"
+err(area, "masked entries (issue 28)", lambda: ph.principal(masked(np.diag([1.0, 2.0, 3.0]),
+                                                                   np.eye(3))),
+    ph.ArgumentError, "inertia")
+err(area, "masked entries in a batch", lambda: ph.principal(masked(np.stack([SPD, SPD]),
+                                                                   np.arange(18).reshape(2, 3, 3)
+                                                                   == 17)),
+    ph.ArgumentError, "inertia")
+err(area, "masked entries, continuous", lambda: ph.principal(
+    masked(np.stack([SPD, SPD]), np.arange(18).reshape(2, 3, 3) == 0), continuous=True),
+    ph.ArgumentError, "inertia")
+val(area, "masked array with nothing masked",
+    lambda: ph.principal(np.ma.array(SPD, mask=np.zeros((3, 3), dtype=bool))),
+    principal_check(SPD), "mpmath eigenvalues")
+val(area, "masked array without a mask", lambda: ph.principal(np.ma.array(SPD)),
+    principal_check(SPD), "mpmath eigenvalues")
+err(area, "rtol 2**2000", lambda: ph.principal(SPD, rtol=BIG), ph.NonFiniteError, "rtol")
+err(area, "rtol 'x'", lambda: ph.principal(SPD, rtol="x"), TypeError, "rtol")
+err(area, "rtol [1e-3]", lambda: ph.principal(SPD, rtol=[1e-3]), TypeError, "rtol")
+err(area, "rtol inf", lambda: ph.principal(SPD, rtol=INF), ph.ArgumentError, "rtol")
+err(area, "continuous 1", lambda: ph.principal(np.stack([SPD] * 2), continuous=1), TypeError,
+    "continuous")
+err(area, "continuous 'yes'", lambda: ph.principal(np.stack([SPD] * 2), continuous="yes"),
+    TypeError, "continuous")
+err(area, "entries beyond doubles", lambda: ph.principal([[BIG, 0, 0], [0, 1, 0], [0, 0, 1]]),
+    ph.NonFiniteError, "inertia")
+err(area, "a None entry", lambda: ph.principal([[1, 0, 0], [0, None, 0], [0, 0, 1]]), TypeError,
+    "inertia")
+err(area, "ragged rows", lambda: ph.principal([[1, 0, 0], [0, 1], [0, 0, 1]]), TypeError,
+    "inertia")
+err(area, "(4, 4)", lambda: ph.principal(np.eye(4)), ph.ShapeError, "inertia")
+val(area, "a bool identity", lambda: ph.principal(np.eye(3, dtype=bool)),
+    lambda p: (close(p.moments, [1.0, 1.0, 1.0], 0.0), assert_equal(p.multiplicity, [3, 3, 3])),
+    "the identity: one triple moment")
+val(area, "int entries", lambda: ph.principal(np.diag([3, 1, 2])),
+    lambda p: (close(p.moments, [1.0, 2.0, 3.0], 0.0),
+               close(np.abs(p.axes), [[0, 0, 1], [1, 0, 0], [0, 1, 0]], 0.0)),
+    "a diagonal tensor: its entries, sorted")
+val(area, "float32 entries", lambda: ph.principal(SPD.astype(np.float32)),
+    principal_check(SPD.astype(np.float32).astype(np.float64)), "mpmath of the float32 values")
+val(area, "Fortran order", lambda: ph.principal(np.asfortranarray(SPD)), principal_check(SPD),
+    "mpmath eigenvalues")
+val(area, "a strided batch", lambda: ph.principal(np.stack([SPD, np.eye(3), SPD])[::2]),
+    batch_check([SPD, SPD], [(1, 1, 1), (1, 1, 1)]), "mpmath eigenvalues")
+val(area, "an empty batch, continuous", lambda: ph.principal(np.zeros((0, 3, 3)), continuous=True),
+    lambda p: assert_true(p.moments.shape == (0, 3) and p.axes.shape == (0, 3, 3)),
+    "no tensors, no axes")
+PMI = ph.point_masses_inertia
+err(area, "point_masses_inertia masses masked",
+    lambda: PMI(masked([1.0, 1.0], [1, 0]), np.eye(2, 3)), ph.ArgumentError, "masses")
+err(area, "point_masses_inertia positions masked",
+    lambda: PMI([1.0, 1.0], masked(np.eye(2, 3), np.eye(2, 3))), ph.ArgumentError, "positions")
+err(area, "point_masses_inertia float32 positions masked",
+    lambda: PMI([1.0, 1.0], np.ma.array(np.eye(2, 3, dtype=np.float32), mask=np.eye(2, 3))),
+    ph.ArgumentError, "positions")
+err(area, "point_masses_inertia positions 2**2000",
+    lambda: PMI([1.0, 1.0], [[0, 0, 0], [BIG, 0, 0]]), ph.NonFiniteError, "positions")
+err(area, "point_masses_inertia masses 'x'", lambda: PMI("x", np.eye(2, 3)), TypeError, "masses")
+err(area, "point_masses_inertia positions (1, 2, 2, 3)",
+    lambda: PMI([1.0, 1.0], np.ones((1, 2, 2, 3))), ph.ShapeError, "positions")
+val(area, "point_masses_inertia float16 positions",
+    lambda: PMI([1.0, 3.0], np.array([[0, 0, 0], [4, 0, 0]], dtype=np.float16)),
+    lambda i: close(i, np.diag([0.0, 12.0, 12.0]), EPS), "m1 m2 d^2 / (m1 + m2)")
+val(area, "point_masses_inertia float32 masked, nothing masked",
+    lambda: PMI([1.0, 3.0], np.ma.array(np.array([[0, 0, 0], [4, 0, 0]], dtype=np.float32))),
+    lambda i: close(i, np.diag([0.0, 12.0, 12.0]), EPS), "m1 m2 d^2 / (m1 + m2)")
+
+# --- simulate and analyze: the types of their arguments (the values are the core's) ---------
+
+area = "simulate"
+SIM_BAD_TYPES = [
+    ("method None", {"method": None}, "method"),
+    ("method b'rk4'", {"method": b"rk4"}, "method"),
+    ("method ['rk4']", {"method": ["rk4"]}, "method"),
+    ("dt '0.1'", {"method": "rk4", "dt": "0.1"}, "dt"),
+    ("dt [0.1]", {"method": "rk4", "dt": [0.1]}, "dt"),
+    ("dt Decimal", {"method": "rk4", "dt": __import__("decimal").Decimal("0.1")}, "dt"),
+    ("dt complex", {"method": "rk4", "dt": 0.1 + 0j}, "dt"),
+    ("dt True", {"method": "rk4", "dt": True}, "dt"),
+    ("order 4.0", {"method": "splitting", "dt": 0.1, "order": 4.0}, "order"),
+    ("order '4'", {"method": "splitting", "dt": 0.1, "order": "4"}, "order"),
+    ("order None", {"method": "splitting", "dt": 0.1, "order": None}, "order"),
+    ("rtol '1e-8'", {"method": "dop853", "rtol": "1e-8"}, "rtol"),
+    ("rtol None", {"method": "dop853", "rtol": None}, "rtol"),
+    ("atol '1'", {"method": "dop853", "atol": "1"}, "atol"),
+    ("t0 '0'", {"t0": "0"}, "t0"),
+    ("t0 None", {"t0": None}, "t0"),
+    ("orientation 'no'", {"orientation": "no"}, "orientation"),
+    ("orientation 0", {"orientation": 0}, "orientation"),
+    ("orientation None", {"orientation": None}, "orientation"),
+    ("max_steps 1.5", {"method": "rk4", "dt": 0.1, "max_steps": 1.5}, "max_steps"),
+    ("max_steps '10'", {"method": "rk4", "dt": 0.1, "max_steps": "10"}, "max_steps"),
+    ("progress 'yes'", {"progress": "yes"}, "progress"),
+    ("progress 1", {"progress": 1}, "progress"),
+    ("torque 'gravity'", {"torque": "gravity"}, "torque"),
+    ("torque 3", {"torque": 3}, "torque"),
+    ("torque [0, 0, 1]", {"torque": [0.0, 0.0, 1.0]}, "torque"),
+    ("rotors 'wheel'", {"rotors": "wheel"}, "rotors"),
+    ("rotors [3]", {"rotors": [3]}, "rotors"),
+    ("orientation0 'x'", {"orientation0": "x"}, "orientation0"),
+]
+for _label, _kwargs, _argument in SIM_BAD_TYPES:
+    err(area, _label, lambda k=_kwargs: ph.simulate(M123, W, 1.0, **k), TypeError, _argument)
+for _label, _args, _argument in (
+    ("body 'cube'", ("cube", W, 1.0), "body"),
+    ("body None", (None, W, 1.0), "body"),
+    ("body a dict", ({"I": 1}, W, 1.0), "body"),
+    ("omega0 None", (M123, None, 1.0), "omega0"),
+    ("omega0 'xyz'", (M123, "xyz", 1.0), "omega0"),
+    ("t '10'", (M123, W, "10"), "t"),
+    ("t None", (M123, W, None), "t"),
+    ("t a dict", (M123, W, {1: 2}), "t"),
+    ("t a set", (M123, W, {1.0, 2.0})  , "t"),
+    ("t a generator", (M123, W, (x for x in [0.0, 1.0])), "t"),
+):
+    err(area, _label, lambda a=_args: ph.simulate(*a), TypeError, _argument)
+for _label, _call, _argument in (
+    ("t masked", lambda: ph.simulate(M123, W, masked([0.0, 1.0, 2.0], [0, 1, 0])), "t"),
+    ("omega0 masked", lambda: ph.simulate(M123, masked(W, [1, 0, 0]), 1.0), "omega0"),
+    ("body masked", lambda: ph.simulate(masked(M123, [0, 1, 0]), W, 1.0), "body"),
+    ("orientation0 masked", lambda: ph.simulate(M123, W, 1.0, orientation0=masked(
+        [0, 0, 0, 1], [0, 0, 0, 1])), "orientation0"),
+    ("batch omega0 masked", lambda: ph.simulate(M123, masked(np.ones((2, 3)), np.eye(2, 3)),
+                                                1.0), "omega0"),
+):
+    err(area, _label, _call, ph.ArgumentError, _argument)
+for _label, _call, _argument in (
+    ("t 2**2000", lambda: ph.simulate(M123, W, BIG), "t"),
+    ("t [0, 2**2000]", lambda: ph.simulate(M123, W, [0, BIG]), "t"),
+    ("omega0 [2**2000, 0, 0]", lambda: ph.simulate(M123, [BIG, 0, 0], 1.0), "omega0"),
+    ("dt 2**2000", lambda: ph.simulate(M123, W, 1.0, method="rk4", dt=BIG), "dt"),
+    ("t0 -2**2000", lambda: ph.simulate(M123, W, 1.0, t0=-BIG), "t0"),
+    ("rtol 2**2000", lambda: ph.simulate(M123, W, 1.0, method="dop853", rtol=BIG), "rtol"),
+    ("body moments 2**2000", lambda: ph.simulate([1, 2, BIG], W, 1.0), "body"),
+):
+    err(area, _label, _call, ph.NonFiniteError, _argument)
+err(area, "max_steps 2**70", lambda: ph.simulate(M123, W, 1.0, method="rk4", dt=0.1,
+                                                 max_steps=2**70), ph.ArgumentError, "max_steps")
+_SPHERE_T = np.array([0.0, 0.5, 1.0])
+for _label, _kwargs, _bound in (
+    ("dt Fraction(1, 1000)", {"method": "rk4", "dt": Fraction(1, 1000)}, BOUND["rk4"]),
+    ("dt np.float32(0.001)", {"method": "rk4", "dt": np.float32(0.001)}, BOUND["rk4"]),
+    ("order np.int8(4)", {"method": "splitting", "dt": 1e-3, "order": np.int8(4)},
+     BOUND["splitting"]),
+    ("orientation np.bool_(True)", {"orientation": np.bool_(True)}, CLOSED["exact"]),
+    ("t0 np.float32(0)", {"t0": np.float32(0.0)}, CLOSED["exact"]),
+    ("t masked, nothing masked", {}, CLOSED["exact"]),
+):
+    val(area, _label,
+        lambda k=_kwargs, lbl=_label: ph.simulate(
+            (2.0, 2.0, 2.0), W,
+            masked(_SPHERE_T, [0, 0, 0]) if lbl.startswith("t masked") else _SPHERE_T, **k),
+        lambda sol, b=_bound: (close(sol.omega, sphere_motion(W, _SPHERE_T)[0], b),
+                               same_rotation(sol.quaternion, sphere_motion(W, _SPHERE_T)[1], b)),
+        "a sphere: omega constant, q = exp(omega t / 2) (the method's error bound)")
+val(area, "orientation np.bool_(False)",
+    lambda: ph.simulate((2.0, 2.0, 2.0), W, 1.0, orientation=np.bool_(False)),
+    lambda sol: (assert_true(sol.quaternion is None),
+                 close(sol.omega, [W, W], 4 * EPS)), "a sphere: omega constant")
+# Euler angles of a trajectory.
+_SPIN_Z = ph.simulate((1.0, 2.0, 3.0), [0.0, 0.0, 1.5], np.linspace(0.0, 10.0, 41))
+err(area, "euler_angles seq 3", lambda: _SPIN_Z.euler_angles(3), TypeError, "seq")
+err(area, "euler_angles seq 'ABC'", lambda: _SPIN_Z.euler_angles("ABC"), ph.ArgumentError, "seq")
+err(area, "euler_angles seq 'ZZX'", lambda: _SPIN_Z.euler_angles("ZZX"), ph.ArgumentError, "seq")
+err(area, "euler_angles degrees 1", lambda: _SPIN_Z.euler_angles(degrees=1), TypeError, "degrees")
+err(area, "euler_angles without orientation",
+    lambda: ph.simulate(M123, W, 1.0, orientation=False).euler_angles(), ph.ArgumentError,
+    "orientation")
+val(area, "euler_angles of a spin about z (ZXZ)", lambda: _SPIN_Z.euler_angles(),
+    lambda a: close(a, np.column_stack([1.5 * np.linspace(0.0, 10.0, 41), np.zeros((41, 2))]),
+                    64 * EPS, 1e-13), "phi = w t, unwrapped; theta = psi = 0 (gimbal lock)")
+val(area, "euler_angles of a spin about x (ZYX, degrees)",
+    lambda: ph.simulate((1.0, 2.0, 3.0), [2.0, 0.0, 0.0], np.linspace(0.0, 9.0, 37)).euler_angles(
+        "ZYX", degrees=True),
+    lambda a: close(a, np.column_stack([np.zeros((37, 2)), np.degrees(2.0 * np.linspace(
+        0.0, 9.0, 37))]), 64 * EPS, 1e-11), "Tait-Bryan: the third angle is w t, unwrapped")
+
+area = "analyze"
+for _label, _call, _error, _argument in (
+    ("body 'x'", lambda: ph.analyze("x", W), TypeError, "body"),
+    ("omega0 None", lambda: ph.analyze(M123, None), TypeError, "omega0"),
+    ("rtol 'x'", lambda: ph.analyze(M123, W, rtol="x"), TypeError, "rtol"),
+    ("rtol 2**2000", lambda: ph.analyze(M123, W, rtol=BIG), ph.NonFiniteError, "rtol"),
+    ("rotors 3", lambda: ph.analyze(M123, W, rotors=3), TypeError, "rotors"),
+    ("body masked", lambda: ph.analyze(masked(M123, [1, 0, 0]), W), ph.ArgumentError, "body"),
+    ("omega0 masked", lambda: ph.analyze(M123, masked(W, [0, 0, 1])), ph.ArgumentError,
+     "omega0"),
+    ("omega0 2**2000", lambda: ph.analyze(M123, [BIG, 0, 0]), ph.NonFiniteError, "omega0"),
+    ("nutation_rate body 'x'", lambda: ph.rotors.nutation_rate(
+        "x", W, ph.rotors.SphericalDamper(0.1, 0.1)), TypeError, "body"),
+    ("nutation_rate damper a Wheel", lambda: ph.rotors.nutation_rate(
+        M123, W, ph.rotors.Wheel([0, 0, 1], 0.1)), TypeError, "damper"),
+    ("nutation_rate damper None", lambda: ph.rotors.nutation_rate(M123, W, None), TypeError,
+     "damper"),
+    ("nutation_rate omega0 masked", lambda: ph.rotors.nutation_rate(
+        M123, masked(W, [1, 0, 0]), ph.rotors.SphericalDamper(0.1, 0.1)), ph.ArgumentError,
+     "omega0"),
+):
+    err(area, _label, _call, _error, _argument)
+val(area, "a diagonal tensor as the body", lambda: ph.analyze(np.diag([3.0, 1.0, 2.0]),
+                                                              [0.0, 0.0, 1.0]),
+    lambda a: (assert_true(a.regime == "steady_intermediate", a.regime),
+               close(a.energy, 1.0, 0.0), close(a.angular_momentum_norm, 2.0, 0.0)),
+    "a spin about z, I_zz = 2 the intermediate moment: steady, T = 1, |L| = 2")
+
+# --- perturbation: argument types and masked arrays ---------------------------------------------
+
+area = "perturbation"
+for _label, _call, _error, _argument in (
+    ("moments 'abc'", lambda: ph.perturbation("abc", PW, [0.0, 1.0]), TypeError, "moments"),
+    ("moments None", lambda: ph.perturbation(None, PW, [0.0, 1.0]), TypeError, "moments"),
+    ("t '1'", lambda: ph.perturbation(M123, PW, "1"), TypeError, "t"),
+    ("t None", lambda: ph.perturbation(M123, PW, None), TypeError, "t"),
+    ("axis 1.0", lambda: ph.perturbation(M123, PW, [0.0, 1.0], axis=1.0), TypeError, "axis"),
+    ("axis True", lambda: ph.perturbation(M123, PW, [0.0, 1.0], axis=True), TypeError, "axis"),
+    ("axis -1", lambda: ph.perturbation(M123, PW, [0.0, 1.0], axis=-1), ph.ArgumentError,
+     "axis"),
+    ("order 2.0", lambda: ph.perturbation(M123, PW, [0.0, 1.0], order=2.0), TypeError, "order"),
+    ("order None", lambda: ph.perturbation(M123, PW, [0.0, 1.0], order=None), TypeError,
+     "order"),
+    ("order -1", lambda: ph.perturbation(M123, PW, [0.0, 1.0], order=-1), ph.ArgumentError,
+     "order"),
+    ("omega0 (3, 1)", lambda: ph.perturbation(M123, [[1e-3], [0.0], [1.0]], [0.0, 1.0]),
+     ph.ShapeError, "omega0"),
+    ("t (1, 1)", lambda: ph.perturbation(M123, PW, [[1.0]]), ph.ShapeError, "t"),
+    ("moments (1, 3)", lambda: ph.perturbation([M123], PW, [0.0, 1.0]), ph.ShapeError,
+     "moments"),
+    ("moments inf", lambda: ph.perturbation([1.0, 2.0, INF], PW, [0.0, 1.0]), ph.ArgumentError,
+     "moments"),
+    ("omega0 masked", lambda: ph.perturbation(M123, masked(PW, [1, 0, 0]), [0.0, 1.0]),
+     ph.ArgumentError, "omega0"),
+    ("t masked", lambda: ph.perturbation(M123, PW, masked([0.0, 1.0], [0, 1])),
+     ph.ArgumentError, "t"),
+    ("moments masked", lambda: ph.perturbation(masked(M123, [0, 0, 1]), PW, [0.0, 1.0]),
+     ph.ArgumentError, "moments"),
+    ("t 2**2000", lambda: ph.perturbation(M123, PW, [0, BIG]), ph.NonFiniteError, "t"),
+    ("omega0 2**2000", lambda: ph.perturbation(M123, [0, 0, BIG], [0.0, 1.0]), ph.NonFiniteError,
+     "omega0"),
+):
+    err(area, _label, _call, _error, _argument)
+val(area, "no times", lambda: ph.perturbation(M123, PW, []),
+    lambda r: assert_true(np.shape(r) == (0, 3), np.shape(r)), "(0, 3)")
+val(area, "a sphere: omega constant", lambda: ph.perturbation((2.0, 2.0, 2.0), PW, PT),
+    lambda r: close(r, np.tile(PW, (len(PT), 1)), 0.0), "omega x I omega = 0")
+val(area, "a symmetric top about its axis", lambda: ph.perturbation((2.0, 2.0, 3.0), PW, PT),
+    perturbation_check((2.0, 2.0, 3.0), PW, PT, 2), "scipy DOP853")
+val(area, "a pure spin from integers", lambda: ph.perturbation([1, 2, 3], [0, 0, 2], [0, 1]),
+    lambda r: close(r, [[0.0, 0.0, 2.0], [0.0, 0.0, 2.0]], 0.0), "the steady rotation")
+val(area, "a masked t with nothing masked",
+    lambda: ph.perturbation(M123, PW, masked(PT, [0, 0, 0, 0])),
+    perturbation_check(M123, PW, PT, 2), "scipy DOP853")
+
+# --- molecules ---------------------------------------------------------------------------------
+
+area = "molecule"
+from polhode import molecule as MOL  # noqa: E402
+
+_WATER_R = [[0, 0, 0.1173], [0, 0.7572, -0.4692], [0, -0.7572, -0.4692]]
+_WATER = ph.Body.from_atoms(["O", "H", "H"], _WATER_R)
+_CO = ph.Body.from_atoms(["C", "O"], [[0, 0, 0], [0, 0, 1.128323]])
+_HE = ph.Body.from_atoms(["He"], [[0, 0, 0]])
+_CH4_D = 1.087 / 3**0.5
+_CH4 = ph.Body.from_atoms(["C", "H", "H", "H", "H"], [
+    [0, 0, 0], [_CH4_D, _CH4_D, _CH4_D], [_CH4_D, -_CH4_D, -_CH4_D], [-_CH4_D, _CH4_D, -_CH4_D],
+    [-_CH4_D, -_CH4_D, _CH4_D]])
+# AME 2020 (M. Wang et al. 2021); periodictable, which polhode reads, rounds them to 10-12
+# digits (16O: 15.9949146193 for 15.994914619257): values are compared to MASSES_RTOL.
+MASSES_RTOL = 1e-10
+_AME = {"1H": 1.007825031898, "2H": 2.014101777844, "12C": 12.0, "13C": 13.003354835336,
+        "16O": 15.994914619257}
+for _function in (MOL.rotational_constants, MOL.rotor_type, MOL.asymmetry):
+    _fname = _function.__name__
+    for _label, _kwargs, _error, _argument in (
+        ("rtol -1", {"rtol": -1.0}, ph.ArgumentError, "rtol"),
+        ("rtol nan", {"rtol": NAN}, ph.ArgumentError, "rtol"),
+        ("rtol 1", {"rtol": 1.0}, ph.ArgumentError, "rtol"),
+        ("rtol '1e-3'", {"rtol": "1e-3"}, TypeError, "rtol"),
+        ("rtol True", {"rtol": True}, TypeError, "rtol"),
+        ("rtol 2**2000", {"rtol": BIG}, ph.NonFiniteError, "rtol"),
+    ):
+        err(area, f"{_fname} {_label}", lambda f=_function, k=_kwargs: f(_WATER, **k), _error,
+            _argument)
+    err(area, f"{_fname} of moments", lambda f=_function: f([1.0, 2.0, 3.0]), TypeError, "body")
+    err(area, f"{_fname} of None", lambda f=_function: f(None), TypeError, "body")
+    err(area, f"{_fname} of one atom", lambda f=_function: f(_HE), ph.ArgumentError, "body")
+for _label, _kwargs, _error, _argument in (
+    ("unit 5", {"unit": 5}, TypeError, "unit"),
+    ("unit 'Hz'", {"unit": "Hz"}, ph.ArgumentError, "unit"),
+    ("unit 'mhz'", {"unit": "mhz"}, ph.ArgumentError, "unit"),
+    ("unit None", {"unit": None}, TypeError, "unit"),
+    ("length_unit 'feet'", {"length_unit": "feet"}, ph.ArgumentError, "length_unit"),
+    ("length_unit 3", {"length_unit": 3}, TypeError, "length_unit"),
+    ("mass_unit None", {"mass_unit": None}, TypeError, "mass_unit"),
+    ("mass_unit 'g'", {"mass_unit": "g"}, ph.ArgumentError, "mass_unit"),
+):
+    err(area, f"rotational_constants {_label}",
+        lambda k=_kwargs: MOL.rotational_constants(_WATER, **k), _error, _argument)
+err(area, "asymmetry of a spherical top", lambda: MOL.asymmetry(_CH4), ph.ArgumentError, "body")
+
+
+def _b_mhz(moment_u_angstrom2: float) -> float:
+    """B = h / (8 pi^2 I) in MHz for I in u angstrom^2 (CODATA through scipy.constants)."""
+    import scipy.constants as sc
+
+    kg_m2 = moment_u_angstrom2 * sc.physical_constants["atomic mass constant"][0] * 1e-20
+    return sc.h / (8 * math.pi**2 * kg_m2) * 1e-6
+
+
+def _diatomic_moment(m1, m2, r):
+    return m1 * m2 / (m1 + m2) * r * r
+
+
+def _water_moments():
+    """numpy's eigenvalues of the water molecule's inertia tensor (AME 2020 masses)."""
+    m = np.array([_AME["16O"], _AME["1H"], _AME["1H"]])
+    r = np.asarray(_WATER_R, dtype=float)
+    r = r - m @ r / m.sum()
+    inertia = sum(mk * (rk @ rk * np.eye(3) - np.outer(rk, rk))
+                  for mk, rk in zip(m, r, strict=True))
+    return np.linalg.eigvalsh(inertia)
+
+
+val(area, "CO: linear, A None, B from h / (8 pi^2 mu r^2)", lambda: MOL.rotational_constants(_CO),
+    lambda c: (assert_true(c.A is None), close(c.B, _b_mhz(_diatomic_moment(
+        _AME["12C"], _AME["16O"], 1.128323)), MASSES_RTOL), assert_true(c.B == c.C)),
+    "CODATA constants, AME masses")
+val(area, "13C16O over 12C16O: B scales as 1 / mu",
+    lambda: MOL.rotational_constants(ph.Body.from_atoms(["13C", "O"], [[0, 0, 0], [0, 0, 1.1]])).B
+    / MOL.rotational_constants(ph.Body.from_atoms(["C", "O"], [[0, 0, 0], [0, 0, 1.1]])).B,
+    lambda ratio: close(ratio, (_AME["12C"] * _AME["16O"] / (_AME["12C"] + _AME["16O"]))
+                        / (_AME["13C"] * _AME["16O"] / (_AME["13C"] + _AME["16O"])),
+                        MASSES_RTOL),
+    "reduced masses")
+val(area, "D2 over H2: B halves (to the masses)",
+    lambda: MOL.rotational_constants(ph.Body.from_atoms(["D", "D"], [[0, 0, 0], [0, 0, 0.74]])).B
+    / MOL.rotational_constants(ph.Body.from_atoms(["H", "H"], [[0, 0, 0], [0, 0, 0.74]])).B,
+    lambda ratio: close(ratio, _AME["1H"] / _AME["2H"], MASSES_RTOL), "reduced masses m / 2")
+val(area, "asymmetry of CO is -1", lambda: MOL.asymmetry(_CO),
+    lambda k: close(k, -1.0, 0.0), "the prolate limit")
+val(area, "CO2 is linear", lambda: MOL.rotor_type(ph.Body.from_atoms(
+    ["O", "C", "O"], [[0, 0, -1.16], [0, 0, 0], [0, 0, 1.16]])),
+    lambda t: assert_true(t == "linear", t), "all atoms on a line")
+val(area, "methane is spherical", lambda: MOL.rotor_type(_CH4),
+    lambda t: assert_true(t == "spherical", t), "tetrahedral symmetry")
+val(area, "water's constants from numpy's moments", lambda: MOL.rotational_constants(_WATER),
+    lambda c: close([c.A, c.B, c.C], [_b_mhz(x) for x in _water_moments()], MASSES_RTOL),
+    "numpy eigvalsh, CODATA")
+val(area, "water's asymmetry by Ray's formula", lambda: MOL.asymmetry(_WATER),
+    lambda k: close(k, (lambda a, b, c: (2 * b - a - c) / (a - c))(
+        *[1.0 / x for x in _water_moments()]), MASSES_RTOL), "kappa = (2B - A - C) / (A - C)")
+val(area, "GHz is MHz / 1000", lambda: (MOL.rotational_constants(_WATER, "GHz"),
+                                        MOL.rotational_constants(_WATER, "MHz")),
+    lambda pair: close(pair[0], np.asarray(pair[1]) / 1000, 2 * EPS), "unit conversion")
+val(area, "cm-1 is MHz / (100 c)", lambda: (MOL.rotational_constants(_WATER, "cm-1"),
+                                            MOL.rotational_constants(_WATER, "MHz")),
+    lambda pair: close(pair[0], np.asarray(pair[1]) * 1e6 / (100 * 299792458.0), 4 * EPS),
+    "c = 299792458 m/s exactly")
+val(area, "length_unit nm of a body in nm", lambda: MOL.rotational_constants(
+    ph.Body.from_atoms(["O", "H", "H"], np.asarray(_WATER_R) / 10), length_unit="nm"),
+    lambda c: close([c.A, c.B, c.C], [_b_mhz(x) for x in _water_moments()], MASSES_RTOL),
+    "the same molecule")
+val(area, "mass_unit kg of a body in kg", lambda: MOL.rotational_constants(
+    ph.Body.from_atoms(["O", "H", "H"], _WATER_R,
+                       masses=np.array([_AME["16O"], _AME["1H"], _AME["1H"]])
+                       * 1.66053906892e-27), mass_unit="kg"),
+    lambda c: close([c.A, c.B, c.C], [_b_mhz(x) for x in _water_moments()], 1e-9),
+    "the same molecule (the atomic mass constant to 1e-9)")
+val(area, "atomic numbers are the elements", lambda: ph.Body.from_atoms([6, 8], [[0, 0, 0],
+                                                                                [0, 0, 1.0]]),
+    lambda b: close(b.mass, _AME["12C"] + _AME["16O"], MASSES_RTOL), "AME 2020")
+val(area, "numpy integer labels", lambda: ph.Body.from_atoms(np.array([1, 1]), [[0, 0, 0],
+                                                                                [0, 0, 1.0]]),
+    lambda b: close(b.mass, 2 * _AME["1H"], MASSES_RTOL), "AME 2020")
+val(area, "isotopes 13C, D, 2H", lambda: ph.Body.from_atoms(["13C", "D", "2H"], np.eye(3)),
+    lambda b: close(b.mass, _AME["13C"] + 2 * _AME["2H"], MASSES_RTOL), "AME 2020")
+val(area, "average masses", lambda: ph.Body.from_atoms(["O", "H", "H"], _WATER_R,
+                                                       masses="average"),
+    lambda b: close(b.mass, 15.999 + 2 * 1.008, 2 * EPS), "CIAAW 2021 abridged")
+for _label, _call, _error, _argument in (
+    ("symbols '99C'", lambda: ph.Body.from_atoms(["99C"], [[0, 0, 0]]), ph.ArgumentError,
+     "symbols"),
+    ("symbols [0]", lambda: ph.Body.from_atoms([0], [[0, 0, 0]]), ph.ArgumentError, "symbols"),
+    ("symbols [119]", lambda: ph.Body.from_atoms([119], [[0, 0, 0]]), ph.ArgumentError,
+     "symbols"),
+    ("symbols 'CL'", lambda: ph.Body.from_atoms(["CL"], [[0, 0, 0]]), ph.ArgumentError,
+     "symbols"),
+    ("symbols '3D'", lambda: ph.Body.from_atoms(["3D"], [[0, 0, 0]]), ph.ArgumentError,
+     "symbols"),
+    ("symbols 'Xx'", lambda: ph.Body.from_atoms(["Xx"], [[0, 0, 0]]), ph.ArgumentError,
+     "symbols"),
+    ("symbols 'OHH'", lambda: ph.Body.from_atoms("OHH", np.zeros((3, 3))), TypeError, "symbols"),
+    ("symbols None", lambda: ph.Body.from_atoms(None, [[0, 0, 0]]), TypeError, "symbols"),
+    ("symbols [8.0]", lambda: ph.Body.from_atoms([8.0], [[0, 0, 0]]), TypeError, "symbols[0]"),
+    ("symbols [True]", lambda: ph.Body.from_atoms([True], [[0, 0, 0]]), TypeError,
+     "symbols[0]"),
+    ("symbols []", lambda: ph.Body.from_atoms([], np.zeros((0, 3))), ph.ShapeError, "symbols"),
+    ("masses 'heavy'", lambda: ph.Body.from_atoms(["O"], [[0, 0, 0]], masses="heavy"),
+     ph.ArgumentError, "masses"),
+    ("masses None", lambda: ph.Body.from_atoms(["O"], [[0, 0, 0]], masses=None), TypeError,
+     "masses"),
+    ("masses [-1]", lambda: ph.Body.from_atoms(["O"], [[0, 0, 0]], masses=[-1.0]),
+     ph.NonPositiveError, "masses"),
+    ("masses (2,) for one atom", lambda: ph.Body.from_atoms(["O"], [[0, 0, 0]], masses=[1, 2]),
+     ph.ShapeError, "masses"),
+    ("masses masked", lambda: ph.Body.from_atoms(["O", "H"], np.eye(2, 3),
+                                                 masses=masked([16, 1], [0, 1])),
+     ph.ArgumentError, "masses"),
+    ("Tc average", lambda: ph.Body.from_atoms(["Tc"], [[0, 0, 0]], masses="average"),
+     ph.ArgumentError, "symbols"),
+    ("Tc most abundant", lambda: ph.Body.from_atoms(["Tc"], [[0, 0, 0]]), ph.ArgumentError,
+     "symbols"),
+    ("positions nan", lambda: ph.Body.from_atoms(["O"], [[0, 0, NAN]]), ph.NonFiniteError,
+     "positions"),
+    ("positions (1, 2)", lambda: ph.Body.from_atoms(["O"], [[0, 0]]), ph.ShapeError, "positions"),
+    ("positions of two for one", lambda: ph.Body.from_atoms(["O"], np.zeros((2, 3))),
+     ph.ShapeError, "positions"),
+    ("positions masked", lambda: ph.Body.from_atoms(["O"], masked([[0, 0, 1]], [[0, 0, 1]])),
+     ph.ArgumentError, "positions"),
+):
+    err(area, f"from_atoms {_label}", _call, _error, _argument)
+
+
+def _molecule_files():
+    """Files written by ASE (once): three frames of ethanol in one XYZ, one water, an empty
+    file and one that is no molecule."""
+    folder = f"{_TMP.name}/molecules"
+    import os
+
+    if not os.path.isdir(folder):
+        import ase.build
+        import ase.io
+
+        os.makedirs(folder)
+        base = ase.build.molecule("CH3CH2OH")
+        frames = []
+        for k in range(3):
+            atoms = base.copy()
+            atoms.positions = atoms.positions * (1.0 + 0.2 * k)
+            frames.append(atoms)
+        ase.io.write(f"{folder}/frames.xyz", frames)
+        ase.io.write(f"{folder}/water.xyz", ase.build.molecule("H2O"))
+        with open(f"{folder}/empty.xyz", "w"):
+            pass
+        with open(f"{folder}/garbage.xyz", "w") as handle:
+            handle.write("this is not\nan xyz file\n")
+    return folder
+
+
+def from_file(name, **kwargs):
+    return lambda: ph.Body.from_molecule(f"{_molecule_files()}/{name}", **kwargs)
+
+
+def _frame_inertia(k):
+    """numpy's inertia of frame k as ASE reads it back (AME masses of C, H, O)."""
+    import ase.io
+
+    atoms = ase.io.read(f"{_molecule_files()}/frames.xyz", index=k)
+    m = np.array([_AME[{"C": "12C", "H": "1H", "O": "16O"}[s]]
+                  for s in atoms.get_chemical_symbols()])
+    r = atoms.get_positions()
+    r = r - m @ r / m.sum()
+    return sum(mk * (rk @ rk * np.eye(3) - np.outer(rk, rk)) for mk, rk in zip(m, r, strict=True))
+
+
+for _k in (0, 1, 2):
+    val(area, f"from_molecule conformer={_k} of a 3-frame XYZ (issue 28)",
+        from_file("frames.xyz", conformer=_k),
+        lambda b, k=_k: close(b.inertia, _frame_inertia(k), 1e-10),
+        "numpy on ASE's frame k (masses to 1e-12)")
+val(area, "from_molecule default conformer is the first", from_file("frames.xyz"),
+    lambda b: close(b.inertia, _frame_inertia(0), 1e-10), "numpy on ASE's frame 0")
+for _label, _call, _error, _argument in (
+    ("conformer 3 of 3 frames", from_file("frames.xyz", conformer=3), ph.ArgumentError,
+     "conformer"),
+    ("conformer -2", from_file("frames.xyz", conformer=-2), ph.ArgumentError, "conformer"),
+    ("conformer 1 of one structure", from_file("water.xyz", conformer=1), ph.ArgumentError,
+     "conformer"),
+    ("conformer 'a'", from_file("frames.xyz", conformer="a"), TypeError, "conformer"),
+    ("conformer 1.0", from_file("frames.xyz", conformer=1.0), TypeError, "conformer"),
+    ("conformer of an ASE Atoms", lambda: ph.Body.from_molecule(
+        __import__("ase.build").build.molecule("H2O"), conformer=1), ph.ArgumentError,
+     "conformer"),
+    ("format 3", from_file("water.xyz", format=3), TypeError, "format"),
+    ("format 'nonsense'", from_file("water.xyz", format="nonsense"), ph.ArgumentError, "format"),
+    ("format with an ASE Atoms", lambda: ph.Body.from_molecule(
+        __import__("ase.build").build.molecule("H2O"), format="xyz"), ph.ArgumentError,
+     "format"),
+    ("an empty file", from_file("empty.xyz"), ph.FileFormatError, "molecule"),
+    ("a garbage file", from_file("garbage.xyz"), ph.FileFormatError, "molecule"),
+    ("a folder", lambda: ph.Body.from_molecule(_molecule_files()), ph.FileFormatError,
+     "molecule"),
+    ("molecule 3", lambda: ph.Body.from_molecule(3), TypeError, "molecule"),
+    ("molecule bytes", lambda: ph.Body.from_molecule(b"water.xyz"), TypeError, "molecule"),
+):
+    err(area, f"from_molecule {_label}", _call, _error, _argument)
+err(area, "from_molecule a missing file", from_file("missing.xyz"), FileNotFoundError, "molecule")
+
+# --- files: polhode.io and Body.from_file with every kind of argument ---------------------------
+
+area = "io"
+import pathlib  # noqa: E402
+
+from polhode import io as PIO  # noqa: E402
+
+
+def _io_files():
+    """Small files (once): a tetrahedron as OFF (and as .txt), an empty STL, a one-link URDF
+    with a turned inertial, an MJCF body, broken XML, a folder named like a mesh."""
+    import os
+
+    folder = f"{_TMP.name}/io"
+    if os.path.isdir(folder):
+        return folder
+    os.makedirs(f"{folder}/folder.stl")
+    off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+    files = {
+        "tet.off": off,
+        "tet.txt": off,
+        "inside_out.off": off.replace("3 0 2 1", "3 0 1 2").replace("3 0 1 3", "3 0 3 1")
+        .replace("3 0 3 2", "3 0 2 3").replace("3 1 2 3", "3 1 3 2"),
+        "empty.stl": "",
+        "garbage.stl": "solid nothing\nthis is not an stl\n",
+        "link.urdf": '<robot name="r"><link name="a"><inertial><origin xyz="0.1 0.2 0.3" '
+        'rpy="0.3 -0.2 0.5"/><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" iyy="2" '
+        'iyz="0" izz="2.5"/></inertial></link></robot>',
+        "body.xml": '<mujoco><worldbody><body name="b"><inertial pos="0.1 0 0" '
+        'quat="0.9238795325112867 0 0 0.3826834323650898" mass="3" diaginertia="1 2 2.5"/>'
+        "</body></worldbody></mujoco>",
+        "broken.urdf": "<robot",
+    }
+    for name, text in files.items():
+        with open(f"{folder}/{name}", "w") as handle:
+            handle.write(text)
+    return folder
+
+
+def at(name):
+    return f"{_io_files()}/{name}"
+
+
+def tetrahedron_exact(vertices, mass):
+    """A uniform tetrahedron's centre and inertia about it, in rationals (Tonon 2004: the
+    second moment about the origin is M/20 (sum v v^T + s s^T), s = sum v)."""
+    v = [[Fraction(float(x)) for x in row] for row in vertices]
+    s = [sum(row[i] for row in v) for i in range(3)]
+    m = Fraction(float(mass))
+    c = [[m / 20 * (sum(row[i] * row[j] for row in v) + s[i] * s[j]) for j in range(3)]
+         for i in range(3)]
+    com = [x / 4 for x in s]
+    c = [[c[i][j] - m * com[i] * com[j] for j in range(3)] for i in range(3)]
+    trace = c[0][0] + c[1][1] + c[2][2]
+    inertia = [[(trace if i == j else 0) - c[i][j] for j in range(3)] for i in range(3)]
+    return np.array([float(x) for x in com]), np.array([[float(x) for x in r] for r in inertia])
+
+
+def mesh_file_check(vertices, mass, rtol=16 * EPS):
+    com, inertia = tetrahedron_exact(vertices, mass)
+
+    def check(result):
+        body = result if isinstance(result, ph.Body) else sum(result.values(), 0)
+        close(body.mass, mass, rtol, what="mass")
+        close(body.center_of_mass, com, rtol, what="center_of_mass")
+        close(body.inertia, inertia, rtol, what="inertia")
+
+    return check
+
+
+_TET = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+val(area, "read_mesh a str path", lambda: PIO.read_mesh(at("tet.off"), mass=1.0),
+    mesh_file_check(_TET, 1.0), "Tonon's closed form in rationals")
+val(area, "read_mesh a pathlib.Path", lambda: PIO.read_mesh(pathlib.Path(at("tet.off")),
+                                                            density=6.0),
+    mesh_file_check(_TET, 1.0), "volume 1/6 at density 6: mass 1")
+val(area, "read_mesh scale 2", lambda: PIO.read_mesh(at("tet.off"), mass=1.0, scale=2.0),
+    mesh_file_check(np.multiply(_TET, 2.0), 1.0), "Tonon, the vertices doubled")
+val(area, "read_mesh scale (1, 2, 3)", lambda: PIO.read_mesh(at("tet.off"), mass=1.0,
+                                                             scale=(1, 2, 3)),
+    mesh_file_check(np.multiply(_TET, [1, 2, 3]), 1.0), "Tonon, each axis scaled")
+val(area, "read_mesh scale -1 mirrors", lambda: PIO.read_mesh(at("tet.off"), mass=1.0, scale=-1),
+    mesh_file_check(np.multiply(_TET, -1.0), 1.0), "Tonon of the mirrored tetrahedron")
+val(area, "read_mesh fix_winding of an inside-out file",
+    lambda: PIO.read_mesh(at("inside_out.off"), mass=1.0, fix_winding=True),
+    mesh_file_check(_TET, 1.0), "Tonon's closed form")
+val(area, "read_mesh shell", lambda: PIO.read_mesh(at("tet.off"), mass=1.0, shell=True),
+    lambda r: close(r["tet.off"].mass, 1.0, 0.0), "the mass given")
+val(area, "from_file density 6", lambda: ph.Body.from_file(pathlib.Path(at("tet.off")),
+                                                           density=6.0),
+    mesh_file_check(_TET, 1.0), "Tonon's closed form")
+for _label, _call, _error, _argument in (
+    ("read_mesh path bytes", lambda: PIO.read_mesh(at("tet.off").encode(), mass=1.0), TypeError,
+     "path"),
+    ("read_mesh path None", lambda: PIO.read_mesh(None, mass=1.0), TypeError, "path"),
+    ("read_mesh path 3", lambda: PIO.read_mesh(3, mass=1.0), TypeError, "path"),
+    ("read_mesh a folder", lambda: PIO.read_mesh(at("folder.stl"), mass=1.0),
+     ph.FileFormatError, "path"),
+    ("read_mesh .txt", lambda: PIO.read_mesh(at("tet.txt"), mass=1.0), ph.FileFormatError,
+     "path"),
+    ("read_mesh an empty STL", lambda: PIO.read_mesh(at("empty.stl"), mass=1.0),
+     ph.FileFormatError, "path"),
+    ("read_mesh a garbage STL", lambda: PIO.read_mesh(at("garbage.stl"), mass=1.0),
+     ph.FileFormatError, "path"),
+    ("read_mesh inside out", lambda: PIO.read_mesh(at("inside_out.off"), mass=1.0),
+     ph.FileFormatError, "path"),
+    ("read_mesh density and mass", lambda: PIO.read_mesh(at("tet.off"), mass=1.0, density=1.0),
+     ph.ArgumentError, "mass"),
+    ("read_mesh neither", lambda: PIO.read_mesh(at("tet.off")), ph.ArgumentError, "density"),
+    ("read_mesh mass '1'", lambda: PIO.read_mesh(at("tet.off"), mass="1"), TypeError, "mass"),
+    ("read_mesh mass nan", lambda: PIO.read_mesh(at("tet.off"), mass=NAN), ph.NonFiniteError,
+     "mass"),
+    ("read_mesh mass 2**2000", lambda: PIO.read_mesh(at("tet.off"), mass=BIG),
+     ph.NonFiniteError, "mass"),
+    ("read_mesh density -1", lambda: PIO.read_mesh(at("tet.off"), density=-1),
+     ph.NonPositiveError, "density"),
+    ("read_mesh scale 0", lambda: PIO.read_mesh(at("tet.off"), mass=1, scale=0),
+     ph.ArgumentError, "scale"),
+    ("read_mesh scale (2,)", lambda: PIO.read_mesh(at("tet.off"), mass=1, scale=[1, 2]),
+     ph.ShapeError, "scale"),
+    ("read_mesh scale '2'", lambda: PIO.read_mesh(at("tet.off"), mass=1, scale="2"), TypeError,
+     "scale"),
+    ("read_mesh scale inf", lambda: PIO.read_mesh(at("tet.off"), mass=1, scale=INF),
+     ph.NonFiniteError, "scale"),
+    ("read_mesh scale masked", lambda: PIO.read_mesh(at("tet.off"), mass=1, scale=masked(
+        [1, 2, 3], [0, 1, 0])), ph.ArgumentError, "scale"),
+    ("read_mesh shell 'yes'", lambda: PIO.read_mesh(at("tet.off"), mass=1, shell="yes"),
+     TypeError, "shell"),
+    ("read_mesh fix_winding 1", lambda: PIO.read_mesh(at("tet.off"), mass=1, fix_winding=1),
+     TypeError, "fix_winding"),
+    ("from_file a folder", lambda: ph.Body.from_file(at("folder.stl"), mass=1.0),
+     ph.FileFormatError, "path"),
+    ("from_file scale nan", lambda: ph.Body.from_file(at("tet.off"), mass=1.0, scale=NAN),
+     ph.NonFiniteError, "scale"),
+    ("from_file neither", lambda: ph.Body.from_file(at("tet.off")), ph.ArgumentError,
+     "density"),
+):
+    err(area, _label, _call, _error, _argument)
+err(area, "read_mesh a missing file", lambda: PIO.read_mesh(at("missing.off"), mass=1.0),
+    FileNotFoundError, None, fragment="missing.off")
+err(area, "from_file a missing file", lambda: ph.Body.from_file(at("missing.stl"), mass=1.0),
+    FileNotFoundError, None, fragment="missing.stl")
+
+
+def _turned(rotation, moments, mass, com):
+    r = rotation.as_matrix()
+
+    def check(bodies):
+        (body,) = bodies.values()
+        close(body.mass, mass, 0.0, what="mass")
+        close(body.center_of_mass, com, EPS, what="center_of_mass")
+        close(body.inertia, r @ np.diag(moments) @ r.T, 8 * EPS, what="inertia")
+
+    return check
+
+
+val(area, "read_urdf a turned inertial", lambda: PIO.read_urdf(at("link.urdf")),
+    _turned(Rotation.from_euler("xyz", [0.3, -0.2, 0.5]), [1.0, 2.0, 2.5], 2.0, [0.1, 0.2, 0.3]),
+    "R diag R^T, R = Rz(yaw) Ry(pitch) Rx(roll) (scipy)")
+val(area, "read_urdf a pathlib.Path", lambda: PIO.read_urdf(pathlib.Path(at("link.urdf"))),
+    _turned(Rotation.from_euler("xyz", [0.3, -0.2, 0.5]), [1.0, 2.0, 2.5], 2.0, [0.1, 0.2, 0.3]),
+    "R diag R^T (scipy)")
+val(area, "read_mjcf a turned diaginertia", lambda: PIO.read_mjcf(pathlib.Path(at("body.xml"))),
+    _turned(Rotation.from_quat([0, 0, 0.3826834323650898, 0.9238795325112867]), [1.0, 2.0, 2.5],
+            3.0, [0.1, 0.0, 0.0]), "R diag R^T, quat w x y z (scipy)")
+val(area, "audit of a consistent link", lambda: PIO.audit(at("link.urdf")),
+    lambda findings: assert_true([f.severity for f in findings] == ["ok"], findings),
+    "a physical inertial without geometry")
+for _label, _call, _error, _argument in (
+    ("read_urdf path None", lambda: PIO.read_urdf(None), TypeError, "path"),
+    ("read_urdf path bytes", lambda: PIO.read_urdf(at("link.urdf").encode()), TypeError, "path"),
+    ("read_urdf a folder", lambda: PIO.read_urdf(_io_files()), ph.FileFormatError, "path"),
+    ("read_urdf broken XML", lambda: PIO.read_urdf(at("broken.urdf")), ph.FileFormatError,
+     "path"),
+    ("read_urdf a mesh file", lambda: PIO.read_urdf(at("tet.off")), ph.FileFormatError, "path"),
+    ("read_urdf geometry 'both'", lambda: PIO.read_urdf(at("link.urdf"), geometry="both"),
+     ph.ArgumentError, "geometry"),
+    ("read_urdf density and mass", lambda: PIO.read_urdf(at("link.urdf"), density=1, mass=1),
+     ph.ArgumentError, "mass"),
+    ("read_urdf density '1'", lambda: PIO.read_urdf(at("link.urdf"), density="1"), TypeError,
+     "density"),
+    ("read_urdf mass 0", lambda: PIO.read_urdf(at("link.urdf"), mass=0.0), ph.NonPositiveError,
+     "mass"),
+    ("read_mjcf path None", lambda: PIO.read_mjcf(None), TypeError, "path"),
+    ("read_mjcf a folder", lambda: PIO.read_mjcf(_io_files()), ph.FileFormatError, "path"),
+    ("read_mjcf broken XML", lambda: PIO.read_mjcf(at("broken.urdf")), ph.FileFormatError,
+     "path"),
+    ("read_mjcf density and mass", lambda: PIO.read_mjcf(at("body.xml"), density=1, mass=1),
+     ph.ArgumentError, "mass"),
+    ("read_mjcf mass 0", lambda: PIO.read_mjcf(at("body.xml"), mass=0), ph.NonPositiveError,
+     "mass"),
+    ("read_mjcf density nan", lambda: PIO.read_mjcf(at("body.xml"), density=NAN),
+     ph.NonFiniteError, "density"),
+    ("audit rtol -1", lambda: PIO.audit(at("link.urdf"), rtol=-1), ph.ArgumentError, "rtol"),
+    ("audit rtol 'x'", lambda: PIO.audit(at("link.urdf"), rtol="x"), TypeError, "rtol"),
+    ("audit geometry 'x'", lambda: PIO.audit(at("link.urdf"), geometry="x"), ph.ArgumentError,
+     "geometry"),
+    ("audit a mesh file", lambda: PIO.audit(at("tet.off")), ph.FileFormatError, "path"),
+    ("audit density 0", lambda: PIO.audit(at("link.urdf"), density=0), ph.NonPositiveError,
+     "density"),
+    ("audit path None", lambda: PIO.audit(None), TypeError, "path"),
+):
+    err(area, _label, _call, _error, _argument)
+for _label, _call, _name in (
+    ("read_urdf a missing file", lambda: PIO.read_urdf(at("missing.urdf")), "missing.urdf"),
+    ("read_mjcf a missing file", lambda: PIO.read_mjcf(at("missing.xml")), "missing.xml"),
+    ("audit a missing file", lambda: PIO.audit(at("missing.urdf")), "missing.urdf"),
+):
+    err(area, _label, _call, FileNotFoundError, None, fragment=_name)
+
+
+# ---------------------------------------------------------------------------------------------
 # Running the table
 # ---------------------------------------------------------------------------------------------
 

@@ -442,3 +442,246 @@ def test_ctrl_c_idles_an_in_process_cluster():
         cpu, wall = cpu_until_idle(time.process_time)
         assert cpu <= CPU_BOUND, f"{cpu:.2f} s CPU, {wall:.2f} s until idle"
         check_later_compute(phd, kwargs)
+
+
+# ---------------------------------------------------------------------------------------------
+# Python-side paths: numpy work in chunks (polhode._chunks), and a library that swallows Ctrl-C
+# ---------------------------------------------------------------------------------------------
+
+#: Process CPU a Python-side path may use after the signal: the rest of one chunk's numpy work
+#: (2^20 values: 10 to 60 ms measured) and freeing what it made. Before the chunks, perturbation
+#: at 5e7 times used up to 2.9 s, relative_drift of 1.5e7 times up to 1.2 s.
+PY_CPU_BOUND = 0.2
+#: What such a call must have had left at the signal, so that running on would fail the bound.
+PY_REMAINING = 5 * PY_CPU_BOUND
+
+
+def assert_stopped_within_a_chunk(record: Interrupted, full_cpu: float, what: str) -> None:
+    figures = (
+        f"{what}: {record.cpu_after:.3f} s CPU and {record.latency:.3f} s wall after the signal; "
+        f"{record.cpu_before:.2f} s CPU before it, of about {full_cpu:.1f} s for the whole call"
+    )
+    assert not record.returned, "ran to its end: " + figures
+    assert isinstance(record.raised, KeyboardInterrupt), figures
+    assert full_cpu - record.cpu_before >= PY_REMAINING, "the call is too short: " + figures
+    assert record.cpu_after <= PY_CPU_BOUND, figures
+    assert record.latency <= WALL_BOUND, figures
+
+
+def sized(call: Callable[[int], Any], probe: int, seconds: float, cap: int) -> tuple[int, float]:
+    """(n, its CPU time): n scaled from a run at `probe` so that call(n) takes `seconds` of
+    CPU, at most `cap`."""
+    call(probe)  # the first call pays for imports and page faults of its own
+    started = time.process_time()
+    call(probe)
+    per_item = max(time.process_time() - started, 1e-3) / probe
+    n = min(cap, max(probe, math.ceil(seconds / per_item)))
+    return n, n * per_item
+
+
+def test_ctrl_c_stops_perturbation_at_many_times():
+    # About 0.1-0.3 us per time; at most 6e7 times (1.9 GB of output and times).
+    def call(n: int) -> Any:
+        return ph.perturbation((1.0, 2.0, 3.0), (1e-3, -2e-3, 1.0), np.linspace(0.0, 10.0, n))
+
+    n, full_cpu = sized(call, 10**6, 3.0, 6 * 10**7)
+    t = np.linspace(0.0, 10.0, n)
+    record = interrupt(
+        lambda: ph.perturbation((1.0, 2.0, 3.0), (1e-3, -2e-3, 1.0), t), lambda cpu: cpu >= 0.3
+    )
+    assert_stopped_within_a_chunk(record, full_cpu, f"perturbation, {n:.1e} times")
+
+
+def test_ctrl_c_stops_euler_angles_of_a_long_trajectory():
+    # A trajectory of one rotation about a fixed axis (its quaternions in closed form, cheap to
+    # make); about 0.3 us per output time, at most 2e7 (0.6 GB of quaternions).
+    def trajectory(n: int) -> ph.Trajectory:
+        half = np.linspace(0.0, 3e3, n)
+        axis = np.array([0.3, 1.0, 0.2]) / np.linalg.norm([0.3, 1.0, 0.2])
+        quaternion = np.empty((n, 4))
+        quaternion[:, :3] = np.sin(half)[:, None] * axis
+        quaternion[:, 3] = np.cos(half)
+        rest = np.zeros((n, 3))
+        return ph.Trajectory(half, rest, quaternion, None, rest, np.zeros(n), None,
+                             np.ones(3), {})
+
+    n, full_cpu = sized(lambda k: trajectory(k).euler_angles(), 10**6, 4.0, 2 * 10**7)
+    traj = trajectory(n)
+    # Signalled in scipy's conversion, and late, in the unwrapping after it (before the chunks,
+    # the whole-array unwrapping and sums held Ctrl-C up to 2.0 s at 1.5e7 times), with at
+    # least 1.5 s of the call left.
+    for at in (0.3 * full_cpu, max(0.3 * full_cpu, full_cpu - 1.5)):
+        record = interrupt(lambda: traj.euler_angles(degrees=True), lambda cpu, a=at: cpu >= a)
+        assert_stopped_within_a_chunk(
+            record, full_cpu, f"euler_angles, {n:.1e} times, at {at / full_cpu:.0%}"
+        )
+
+
+def test_chunks_give_the_bits_of_the_whole_arrays(monkeypatch):
+    # The chunked paths against numpy's whole-array operations and against themselves at other
+    # chunk sizes (down to one row: every carry from chunk to chunk exercised).
+    from polhode import _chunks
+
+    rng = np.random.default_rng(8)
+    wrapped = np.cumsum(rng.normal(scale=2.0, size=(301, 3)), axis=0)
+    wrapped[::17] = np.pi  # the boundary case of np.unwrap
+    integers = rng.integers(-50, 50, size=301)
+    traj = ph.simulate((1.0, 2.0, 3.0), (0.3, 1.0, 0.2), np.linspace(0.0, 60.0, 301),
+                       method="rk4", dt=0.05)
+    lock = ph.simulate((1.0, 2.0, 3.0), (0.0, 0.0, 1.5), np.linspace(0.0, 30.0, 301))
+    results = {}
+    for chunk in (1, 3, 64, 1 << 20):
+        monkeypatch.setattr(_chunks, "CHUNK", chunk)
+        assert np.array_equal(_chunks.unwrap(wrapped), np.unwrap(wrapped, axis=0))
+        assert np.array_equal(_chunks.accumulate(np.add, wrapped), np.cumsum(wrapped, axis=0))
+        assert np.array_equal(_chunks.accumulate(np.maximum, integers),
+                              np.maximum.accumulate(integers))
+        results[chunk] = [
+            traj.euler_angles(), lock.euler_angles("ZXZ", degrees=True), lock.euler_angles("zyx"),
+            *ph.invariants.relative_drift(traj).values(),
+            ph.perturbation((1.0, 2.0, 3.0), (1e-3, -2e-3, 1.0), np.linspace(0.0, 10.0, 301)),
+            ph.perturbation((1.0, 2.0, 3.0), (0.0, 1.0, 0.01), np.linspace(-2.0, 2.0, 301)),
+        ]
+    for chunk, values in results.items():
+        for a, b in zip(values, results[1 << 20], strict=True):
+            assert a.tobytes() == b.tobytes(), chunk
+
+
+#: Body.from_file in a fresh process, signalled once trimesh is being imported and the process
+#: has used `delay` s more CPU (sys.argv[1]); prints what happened as JSON.
+_FROM_FILE_DURING_IMPORT = r"""
+import json, os, signal, sys, threading, time
+delay, path = float(sys.argv[1]), sys.argv[2]
+import polhode as ph
+signal.signal(signal.SIGINT, signal.default_int_handler)
+sent = {}
+def sender():
+    while "trimesh" not in sys.modules:
+        time.sleep(0.0002)
+    cpu0 = time.process_time()
+    while time.process_time() - cpu0 < delay:
+        time.sleep(0.0002)
+    # Still importing: trimesh/__init__.py sets __all__ last.
+    sent["importing"] = not hasattr(sys.modules["trimesh"], "__all__")
+    sent["wall"], sent["cpu"] = time.perf_counter(), time.process_time()
+    os.kill(os.getpid(), signal.SIGINT)
+threading.Thread(target=sender, daemon=True).start()
+returned = False
+try:
+    try:
+        ph.Body.from_file(path, density=1.0)
+        returned = True
+    finally:
+        wall, cpu = time.perf_counter(), time.process_time()
+    time.sleep(0.05)
+except KeyboardInterrupt:
+    pass
+import trimesh
+from trimesh.exceptions import ExceptionWrapper
+placeholders = sorted(
+    f"{name}.{key}" for name, module in list(sys.modules.items())
+    if name.split(".")[0] == "trimesh"
+    for key, value in vars(module).items() if isinstance(value, ExceptionWrapper)
+)
+again = ph.Body.from_file(path, density=1.0)
+print(json.dumps({
+    "returned": returned, "importing": sent["importing"], "cpu_after": cpu - sent["cpu"],
+    "latency": wall - sent["wall"], "placeholders": placeholders,
+    "mass": again.mass, "inertia": again.inertia.tolist(),
+}))
+"""
+
+_CLEAN_IMPORT = r"""
+import json, sys, trimesh
+from trimesh.exceptions import ExceptionWrapper
+print(json.dumps(sorted(
+    f"{name}.{key}" for name, module in list(sys.modules.items())
+    if name.split(".")[0] == "trimesh"
+    for key, value in vars(module).items() if isinstance(value, ExceptionWrapper)
+)))
+"""
+
+
+def test_ctrl_c_during_trimesh_import_is_not_lost(tmp_path):
+    # trimesh imports its optional parts inside `except BaseException`: Ctrl-C during its import
+    # (the first Body.from_file of a session) was swallowed, the file read to the end and a
+    # Body returned (4 of 4 tries on a 200 MB STL), and trimesh kept placeholders for the parts
+    # whose import was interrupted (trimesh.grouping.cKDTree). Fresh processes, since this
+    # one has imported trimesh already.
+    import json
+    import subprocess
+
+    trimesh = pytest.importorskip("trimesh")
+    path = tmp_path / "cube.stl"
+    trimesh.creation.box(extents=(1.0, 1.0, 1.0)).export(path)
+    clean = json.loads(subprocess.run([sys.executable, "-c", _CLEAN_IMPORT], capture_output=True,
+                                      text=True, check=True).stdout)
+    during = 0
+    for delay in (0.0, 0.02, 0.05, 0.1, 0.15):
+        # Not check=True: when the KeyboardInterrupt left code that an extension ran through
+        # PyRun_String, CPython ends the process by SIGINT once it is done (its flag for an
+        # unhandled KeyboardInterrupt), after the line printed here.
+        done = subprocess.run([sys.executable, "-c", _FROM_FILE_DURING_IMPORT, str(delay),
+                               str(path)], capture_output=True, text=True, timeout=300)
+        assert done.returncode in (0, -signal.SIGINT), done.stderr
+        outcome = json.loads(done.stdout.strip().splitlines()[-1])
+        what = f"delay {delay}: {outcome}"
+        if not outcome["importing"]:
+            continue  # the import was over: not the case tested here
+        during += 1
+        assert not outcome["returned"], "the interrupt was lost: " + what
+        assert outcome["cpu_after"] <= PY_CPU_BOUND, what
+        assert outcome["placeholders"] == clean, what  # trimesh imported whole again
+        assert outcome["mass"] == 1.0, what
+        np.testing.assert_allclose(outcome["inertia"], np.eye(3) / 6, rtol=4 * EPS_64)
+    assert during >= 3, "the signal came after trimesh's import in most runs"
+
+
+EPS_64 = float(np.finfo(np.float64).eps)
+
+
+def test_keeping_interrupts_raises_a_swallowed_ctrl_c_and_forgets_the_half_imported(tmp_path):
+    # A package that imports a part inside `except BaseException` (as trimesh does), the part
+    # sending SIGINT to the process while it is imported (the first time only): the interrupt
+    # is raised at the end of the block, the next import in the block is cut short, and the
+    # package, left with a placeholder, is forgotten, so that the next import is whole.
+    from polhode._files import keeping_interrupts
+
+    package = tmp_path / "swallower"
+    package.mkdir()
+    (package / "__init__.py").write_text(
+        "try:\n"
+        "    from . import part\n"
+        "except BaseException:\n"
+        "    part = None\n"
+        "from . import after\n"
+    )
+    flag = tmp_path / "signal-once"
+    (package / "part.py").write_text(
+        "import os, signal\n"
+        f"if not os.path.exists({str(flag)!r}):\n"
+        f"    open({str(flag)!r}, 'w').close()\n"
+        "    os.kill(os.getpid(), signal.SIGINT)\n"
+        "VALUE = 42\n"
+    )
+    (package / "after.py").write_text("AFTER = True\n")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with keeping_interrupts("swallower"):
+                __import__("swallower")
+        assert not any(name.split(".")[0] == "swallower" for name in sys.modules)
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        with keeping_interrupts("swallower"):
+            module = __import__("swallower")
+        assert module.part.VALUE == 42 and module.after.AFTER
+        # Without the guard the same package swallows the interrupt for good.
+        for name in [n for n in sys.modules if n.split(".")[0] == "swallower"]:
+            del sys.modules[name]
+        flag.unlink()
+        lost = __import__("swallower")
+        assert lost.part is None  # the placeholder: what trimesh kept for cKDTree
+    finally:
+        sys.path.remove(str(tmp_path))
+        for name in [n for n in sys.modules if n.split(".")[0] == "swallower"]:
+            del sys.modules[name]

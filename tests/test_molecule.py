@@ -453,6 +453,93 @@ def test_from_molecule_reads_an_rdkit_mol():
     assert error.value.argument == "conformer"
 
 
+def numpy_inertia(symbols, positions):
+    """The inertia tensor about the centre of mass, written apart: AME 2020 masses of the main
+    isotopes (the table above), numpy sums."""
+    m = np.array([AME2020[{"O": "16O", "H": "1H", "C": "12C"}[s]] for s in symbols])
+    r = np.asarray(positions, dtype=float)
+    r = r - m @ r / m.sum()
+    return np.einsum("n,nij->ij", m, np.einsum("ni,ni->n", r, r)[:, None, None] * np.eye(3)
+                     - r[:, :, None] * r[:, None, :])
+
+
+@pytest.mark.parametrize("name", ["frames.xyz", "frames.extxyz", "frames.traj", "frames.pdb"])
+def test_conformer_picks_a_structure_of_a_multi_frame_file(tmp_path, name):
+    # Three frames of a molecule that ASE writes to one file (a trajectory, or an XYZ of several
+    # structures): conformer=k gives frame k, as ASE reads it back; before, every conformer gave
+    # the first frame without a word.
+    base = ase.build.molecule("CH3CH2OH")
+    frames = []
+    for k in range(3):
+        atoms = base.copy()
+        atoms.positions = atoms.positions * (1.0 + 0.2 * k) + [0.1 * k, 0.0, 0.0]
+        frames.append(atoms)
+    path = tmp_path / name
+    ase.io.write(path, frames)
+    read_back = ase.io.read(path, index=":")
+    assert len(read_back) == 3
+    symbols = base.get_chemical_symbols()
+    for k in range(3):
+        expected = numpy_inertia(symbols, read_back[k].get_positions())
+        got = ph.Body.from_molecule(path, conformer=k).inertia
+        # To the masses' agreement (periodictable's and the table above differ by ~1e-12).
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-10 * np.abs(expected).max())
+    inertias = [numpy_inertia(symbols, f.get_positions()) for f in read_back]
+    assert np.abs(inertias[2] - inertias[0]).max() > 0.1 * np.abs(inertias[0]).max()
+    # The default (-1) is the first structure, as RDKit's default conformer is the first.
+    np.testing.assert_array_equal(
+        ph.Body.from_molecule(path).inertia, ph.Body.from_molecule(path, conformer=0).inertia
+    )
+    for bad, fragment in ((3, r"holds 3 \(0 to 2\)"), (-2, "the first")):
+        with pytest.raises(ph.ArgumentError, match=fragment) as error:
+            ph.Body.from_molecule(path, conformer=bad)
+        assert error.value.argument == "conformer"
+    with pytest.raises(TypeError, match="`conformer`"):
+        ph.Body.from_molecule(path, conformer="1")
+
+
+def test_conformer_and_format_are_refused_where_they_mean_nothing(tmp_path):
+    atoms = ase.build.molecule("H2O")
+    path = tmp_path / "water.xyz"
+    ase.io.write(path, atoms)
+    with pytest.raises(ph.ArgumentError, match="one structure") as error:
+        ph.Body.from_molecule(atoms, conformer=1)
+    assert error.value.argument == "conformer"
+    ase.io.write(tmp_path / "water.pdb", atoms)
+    universe = mda.Universe(str(tmp_path / "water.pdb"))
+    with pytest.raises(ph.ArgumentError, match="MDAnalysis") as error:
+        ph.Body.from_molecule(universe, conformer=0)
+    assert error.value.argument == "conformer"
+    with pytest.raises(ph.ArgumentError) as error:
+        ph.Body.from_molecule(atoms, format="xyz")
+    assert error.value.argument == "format"
+    with pytest.raises(ph.ArgumentError) as error:
+        ph.Body.from_molecule(path, format="no-such-format")
+    assert error.value.argument == "format"
+    with pytest.raises(TypeError, match="`format`"):
+        ph.Body.from_molecule(path, format=3)
+    # A single-structure file has structure 0 only.
+    with pytest.raises(ph.ArgumentError, match="holds 1") as error:
+        ph.Body.from_molecule(path, conformer=1)
+    empty = tmp_path / "empty.xyz"
+    empty.write_text("")
+    with pytest.raises(ph.FileFormatError) as error:
+        ph.Body.from_molecule(empty)
+    assert error.value.argument == "molecule"
+    mol = Chem.AddHs(Chem.MolFromSmiles("O"))
+    assert len(AllChem.EmbedMultipleConfs(mol, 2, randomSeed=3)) == 2
+    second = mol.GetConformer(1).GetPositions()
+    symbols = [a.GetSymbol() for a in mol.GetAtoms()]
+    np.testing.assert_allclose(
+        ph.Body.from_molecule(mol, conformer=1).inertia, numpy_inertia(symbols, second),
+        rtol=0, atol=1e-10,
+    )
+    for bad in (2, 2**40):
+        with pytest.raises(ph.ArgumentError, match="0 to 1") as error:
+            ph.Body.from_molecule(mol, conformer=bad)
+        assert error.value.argument == "conformer"
+
+
 def test_from_molecule_reads_an_mdanalysis_group(tmp_path):
     atoms = ase.build.molecule("CH3Cl")
     path = tmp_path / "ch3cl.pdb"

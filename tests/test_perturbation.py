@@ -72,3 +72,29 @@ def test_bad_arguments(kwargs, fragment):
     args.update(kwargs)
     with pytest.raises(ph.PolhodeError, match=fragment):
         perturbation(args.pop("moments"), args.pop("omega0"), args.pop("t"), **args)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "argument"),
+    [
+        # omega0 is made of eps there: an eps outside the expansion's domain is named as eps
+        # (it was named `omega0`, an argument the caller never gave), an order as `orders`.
+        ({"eps": [1e-3, 0.9]}, ph.ArgumentError, "eps"),
+        ({"orders": [3]}, ph.ArgumentError, "orders"),
+        ({"orders": [1, -1]}, ph.ArgumentError, "orders"),
+        ({"orders": ["1"]}, TypeError, "orders"),
+        ({"orders": [1.0]}, TypeError, "orders"),
+        ({"orders": 2}, TypeError, "orders"),
+    ],
+)
+def test_perturbation_errors_name_their_own_arguments(kwargs, error, argument):
+    pytest.importorskip("matplotlib")
+    args = {"eps": [1e-3, 1e-2], "orders": (1, 2)}
+    args.update(kwargs)
+    for function in (ph.plot.perturbation_errors, ph.plot.perturbation_error):
+        with pytest.raises(error) as info:
+            function(MOMENTS, 2, args["eps"], args["orders"], 1.0)
+        if error is TypeError:
+            assert f"`{argument}`" in str(info.value)
+        else:
+            assert info.value.argument == argument, str(info.value)

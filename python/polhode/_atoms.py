@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._coerce import as_array
+from polhode._coerce import as_array, as_integer
+from polhode._files import keeping_interrupts
 from polhode.errors import ArgumentError, FileFormatError, ShapeError
 
 #: The named choices of atomic masses (``Body.from_atoms(masses=...)``).
@@ -182,7 +183,8 @@ def atom_masses(symbols: Any, masses: Any) -> tuple[list[Any], NDArray[np.float6
 def ase_readers() -> Any:
     """ASE's readers (``ase.io``), or an ImportError saying which extra installs ASE."""
     try:
-        import ase.io
+        with keeping_interrupts("ase"):
+            import ase.io
     except ImportError as error:
         raise ImportError(
             "Reading a molecule from a file needs ASE: pip install 'polhode[chem]'."
@@ -190,23 +192,23 @@ def ase_readers() -> Any:
     return ase.io
 
 
-def atoms_of(molecule: Any, format: str | None, conformer: int) -> tuple[list[Any], Any]:
+def atoms_of(molecule: Any, format: Any, conformer: Any) -> tuple[list[Any], Any]:
     """(labels, positions in angstrom) of a path, an ASE Atoms, an MDAnalysis AtomGroup or
-    Universe, or an RDKit Mol, duck-typed."""
+    Universe, or an RDKit Mol, duck-typed; ``conformer`` picks a file's structure or a Mol's
+    conformer (-1: the first) and is refused for the others, which hold one."""
+    conformer = as_integer("conformer", conformer)
+    if format is not None and not isinstance(format, str):
+        raise TypeError(
+            f"Expected `format` to be ASE's name of a file format, got {type(format).__name__}."
+        )
     if isinstance(molecule, str | os.PathLike):
-        ase_io = ase_readers()
-        path = os.fspath(molecule)
-        if not os.path.exists(path):
-            raise FileNotFoundError(f"No such file: {path!r} (`molecule`).")
-        try:
-            atoms = ase_io.read(path, index=0, format=format)
-        except Exception as error:  # ASE's readers raise whatever their parsers do
-            raise FileFormatError(
-                f"Could not read a molecule from {path!r} (`molecule`): {error}",
-                argument="molecule",
-                path=path,
-            ) from error
-        return list(atoms.get_chemical_symbols()), atoms.get_positions()
+        return _read_file(molecule, format, conformer)
+    if format is not None:
+        raise ArgumentError(
+            f"Expected `format` only with a file, got {format!r} with a molecule of type "
+            f"{type(molecule).__name__}.",
+            argument="format",
+        )
     if hasattr(molecule, "GetConformer") and hasattr(molecule, "GetAtoms"):  # RDKit Mol
         if molecule.GetNumConformers() == 0:
             raise ArgumentError(
@@ -216,9 +218,11 @@ def atoms_of(molecule: Any, format: str | None, conformer: int) -> tuple[list[An
             )
         try:
             positions = molecule.GetConformer(conformer).GetPositions()
-        except ValueError as error:
+        except Exception as error:  # RDKit: ValueError, or Boost's ArgumentError beyond an int
+            ids = [c.GetId() for c in molecule.GetConformers()]
             raise ArgumentError(
-                f"Expected `conformer` to be a conformer id of `molecule`, got {conformer}.",
+                f"Expected `conformer` to be a conformer id of `molecule` ({_ids(ids)}), "
+                f"got {conformer}.",
                 argument="conformer",
             ) from error
         labels = []
@@ -228,6 +232,8 @@ def atoms_of(molecule: Any, format: str | None, conformer: int) -> tuple[list[An
         return labels, positions
     group = getattr(molecule, "atoms", None)
     if group is not None and hasattr(group, "positions"):  # MDAnalysis AtomGroup or Universe
+        _one_structure(conformer, "an MDAnalysis group (its current frame; move to another "
+                       "with universe.trajectory[k])")
         try:
             elements = group.elements
         except Exception as error:
@@ -238,11 +244,79 @@ def atoms_of(molecule: Any, format: str | None, conformer: int) -> tuple[list[An
             ) from error
         return [str(e).strip().capitalize() for e in elements], group.positions
     if hasattr(molecule, "get_chemical_symbols") and hasattr(molecule, "get_positions"):  # ASE
+        _one_structure(conformer, "an ASE Atoms")
         return list(molecule.get_chemical_symbols()), molecule.get_positions()
     raise TypeError(
         "Expected `molecule` to be a path, an ASE Atoms, an MDAnalysis AtomGroup or an RDKit "
         f"Mol, got {type(molecule).__name__}."
     )
+
+
+def _ids(ids: list[int]) -> str:
+    if not ids:
+        return "none"
+    if ids == list(range(ids[0], ids[-1] + 1)):
+        return f"{ids[0]} to {ids[-1]}" if len(ids) > 1 else f"{ids[0]}"
+    return ", ".join(map(str, ids[:10])) + (", ..." if len(ids) > 10 else "")
+
+
+def _one_structure(conformer: int, what: str) -> None:
+    """A molecule of one structure takes no ``conformer`` (rather than ignoring it)."""
+    if conformer != -1:
+        raise ArgumentError(
+            f"Expected no `conformer` with {what}, which holds one structure, got {conformer} "
+            "(conformer selects a structure of a file or a conformer of an RDKit Mol).",
+            argument="conformer",
+        )
+
+
+def _read_file(molecule: Any, format: str | None, conformer: int) -> tuple[list[Any], Any]:
+    """A file read by ASE: its structure ``conformer`` (0 the first, -1 the first too)."""
+    ase_io = ase_readers()
+    path = os.fspath(molecule)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"No such file: {path!r} (`molecule`).")
+    if format is not None and format not in ase_io.formats.ioformats:
+        raise ArgumentError(
+            f"Expected `format` to be the name of a format ASE reads (ase.io.formats.ioformats: "
+            f"'xyz', 'proteindatabank', 'sdf', ...), got {format!r}.",
+            argument="format",
+        )
+    if conformer < -1:
+        raise ArgumentError(
+            f"Expected `conformer` to be the index of a structure of the file (0 the first; "
+            f"-1, the default, the first too), got {conformer}.",
+            argument="conformer",
+        )
+    index = max(conformer, 0)
+
+    def read(which: Any) -> Any:
+        try:
+            with keeping_interrupts("ase"):
+                return ase_io.read(path, index=which, format=format)
+        except Exception as error:  # ASE's readers raise whatever their parsers do
+            raise FileFormatError(
+                f"Could not read a molecule from {path!r} (`molecule`): {error}",
+                argument="molecule",
+                path=path,
+            ) from error
+
+    images = read(slice(index, index + 1))  # a list: empty past the last structure
+    if not images:
+        count = len(read(slice(None)))
+        if count == 0:
+            raise FileFormatError(
+                f"Could not read a molecule from {path!r} (`molecule`): it holds no structure.",
+                argument="molecule",
+                path=path,
+            )
+        raise ArgumentError(
+            f"Expected `conformer` to be the index of a structure of {path!r}, which holds "
+            f"{count} ({'0 to ' + str(count - 1) if count > 1 else '0'}), got {conformer}.",
+            argument="conformer",
+        )
+    atoms = images[0]
+    return list(atoms.get_chemical_symbols()), atoms.get_positions()
 
 
 def formula(symbols: list[str]) -> str:

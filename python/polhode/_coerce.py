@@ -22,6 +22,7 @@ _FLOAT64 = np.dtype(np.float64)
 
 __all__ = [
     "as_array",
+    "as_double",
     "as_faces",
     "as_finite",
     "as_finite_array",
@@ -33,6 +34,7 @@ __all__ = [
     "as_scalar",
     "as_scale",
     "density_or_mass",
+    "unmasked",
 ]
 
 
@@ -42,15 +44,45 @@ def _shape_str(shape: tuple[int, ...]) -> str:
     return "(" + ", ".join(str(d) for d in shape) + ")"
 
 
+def unmasked(name: str, value: Any) -> Any:
+    """``value``, or the data of a numpy masked array with nothing masked; an ArgumentError
+    naming ``name`` for a masked array with masked entries (numpy's conversions would read the
+    values under the mask, whatever they are, as data)."""
+    if not isinstance(value, np.ma.MaskedArray):
+        return value
+    masked = int(np.count_nonzero(np.ma.getmaskarray(value)))
+    if masked:
+        raise ArgumentError(
+            f"Expected `{name}` to have no masked entries, got a masked array with {masked} "
+            f"masked of {value.size}: fill them (array.filled(value)) or leave them out.",
+            argument=name,
+        )
+    return np.asarray(value.data)
+
+
+def as_double(name: str, value: Any) -> float:
+    """``float(value)`` of a real number (an int, a Fraction, a numpy scalar), or a
+    NonFiniteError naming ``name`` for one beyond double precision (``2**2000``), which
+    ``float`` would raise as an OverflowError."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise NonFiniteError(
+            f"Expected `{name}` to be finite, got a number beyond double precision.",
+            argument=name,
+        ) from None
+
+
 def as_scalar(name: str, value: Any) -> float:
-    """A real number as float; TypeError for anything else (bool, str, arrays)."""
+    """A real number as float; TypeError for anything else (bool, str, arrays), NonFiniteError
+    for one beyond double precision, ArgumentError for a masked value."""
     if type(value) is float:
         return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
-            return float(value)
+            return as_double(name, unmasked(name, value))
         raise TypeError(f"Expected `{name}` to be a real number, got {type(value).__name__}.")
-    return float(value)
+    return as_double(name, value)
 
 
 def as_finite(name: str, value: Any, *, positive: bool = False) -> float:
@@ -107,6 +139,8 @@ def as_float_array(name: str, value: Any) -> NDArray[np.float64]:
         if value.dtype is _FLOAT64 and value.flags.c_contiguous and value.ndim:
             return value
         raw: NDArray[Any] = value
+    elif isinstance(value, np.ma.MaskedArray):
+        raw = unmasked(name, value)
     elif value is None or isinstance(value, str | bytes):
         raise TypeError(f"Expected `{name}` to be an array of real numbers, got {_kind(value)}.")
     else:
@@ -126,7 +160,13 @@ def as_float_array(name: str, value: Any) -> NDArray[np.float64]:
         raise TypeError(f"Expected `{name}` to be an array of real numbers, got {what}.")
     try:
         return np.ascontiguousarray(raw, dtype=np.float64)
-    except (TypeError, ValueError, OverflowError) as error:
+    except OverflowError:
+        # Python integers (or Fractions) beyond double precision, e.g. [2**2000, 1, 1].
+        raise NonFiniteError(
+            f"Expected `{name}` to be finite, got a number beyond double precision.",
+            argument=name,
+        ) from None
+    except (TypeError, ValueError) as error:
         raise TypeError(
             f"Expected `{name}` to be an array of real numbers, got {_kind(value)}."
         ) from error
@@ -248,6 +288,7 @@ def as_faces(faces: Any) -> NDArray[np.int64]:
         raise TypeError(
             f"Expected `faces` to be an array of vertex indices, got {type(faces).__name__}."
         )
+    faces = unmasked("faces", faces)
     try:
         array = np.asarray(faces)
     except (TypeError, ValueError) as error:

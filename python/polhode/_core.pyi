@@ -68,6 +68,19 @@ class MassProperties:
     def combined(self, other: MassProperties) -> MassProperties: ...
     def angular_momentum_body(self, omega: NDArray[np.float64]) -> NDArray[np.float64]: ...
     def kinetic_energy(self, omega: NDArray[np.float64]) -> float: ...
+    def parts(self) -> _Parts: ...
+    @staticmethod
+    def from_parts(
+        mass: float,
+        center_of_mass: _Triple,
+        center_of_mass_low: _Triple,
+        isotropic: float,
+        factor: tuple[_Triple, _Triple, _Triple],
+    ) -> MassProperties: ...
+    def __reduce__(self) -> tuple[Callable[..., MassProperties], _Parts]: ...
+
+_Triple = tuple[float, float, float]
+_Parts = tuple[float, _Triple, _Triple, float, tuple[_Triple, _Triple, _Triple]]
 
 def merge_vertices(
     vertices: NDArray[np.float64], faces: NDArray[np.int64]

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from polhode import _core
 from polhode._coerce import as_flag, as_scale, density_or_mass
-from polhode._files import existing, fspath, require
+from polhode._files import existing, fspath, keeping_interrupts, require
 from polhode.errors import FileFormatError, PolhodeError
 
 __all__ = [
@@ -69,7 +69,8 @@ def mesh_parts(
     if extension == "obj":  # one part per object ('o'), as glTF has one per node
         options.update(split_objects=True, group_material=False)
     try:
-        scene = trimesh.load_scene(path, file_type=extension, **options)
+        with keeping_interrupts("trimesh"):  # its loaders swallow BaseException here and there
+            scene = trimesh.load_scene(path, file_type=extension, **options)
     except Exception as error:  # the loaders raise whatever their parsers do
         raise FileFormatError(
             f"{path}: cannot be read as a {extension.upper()} mesh: "

@@ -53,6 +53,11 @@ class Body:
         # What it looks like (polhode._shapes), for drawing only; None: no geometry given.
         self._shape = shape
 
+    def __reduce__(self) -> tuple[type[Body], tuple[Any, ...]]:
+        # Pickling and copy.deepcopy, at every protocol: the core's stored numbers (bit for
+        # bit, checked again on loading) and the shape it was built from.
+        return (type(self), (self._core, self._shape))
+
     # --- constructors ---------------------------------------------------------------------
 
     @classmethod
@@ -386,8 +391,9 @@ class Body:
         """A molecule from a file or from another library's molecule (duck-typed).
 
         ``molecule`` may be a path (read by ASE's ``ase.io.read``: XYZ, PDB, CIF, mol, SDF and
-        the other formats ASE knows, the first structure of the file; ``format`` as ASE names
-        it, guessed from the extension by default), an ASE ``Atoms``, an MDAnalysis
+        the other formats ASE knows, the structure ``conformer`` of the file, by default the
+        first; ``format`` as ASE names it, guessed from the extension by default), an ASE
+        ``Atoms``, an MDAnalysis
         ``AtomGroup`` or ``Universe`` (its ``elements``, at the current frame), or an RDKit
         ``Mol`` (the conformer ``conformer``, isotopes as set on its atoms; only the atoms the
         Mol holds: add hydrogens with ``Chem.AddHs`` before embedding). Positions in angstrom,
@@ -402,9 +408,12 @@ class Body:
         masses : {"most_abundant", "average"} or (N,) array_like, optional
             As in :meth:`from_atoms`.
         format : str, optional
-            ASE's name of the file format, for a path.
+            ASE's name of the file format (``ase.io.formats.ioformats``), for a path only.
         conformer : int, optional
-            RDKit conformer id (default -1, the first).
+            For a file, the index of its structure (0 the first; a multi-frame XYZ, PDB or
+            trajectory holds several); for an RDKit Mol, the conformer id. Default -1: the
+            first (RDKit's default conformer). An ASE ``Atoms`` or an MDAnalysis group holds one
+            structure and takes none.
 
         Returns
         -------
@@ -420,7 +429,9 @@ class Body:
             A file ASE cannot read (naming the file; ``argument`` is ``"molecule"``).
         ArgumentError
             An RDKit Mol without conformers, an MDAnalysis group without elements, an unknown
-            element.
+            element; a ``conformer`` the file or the Mol does not hold, or one given with an
+            ASE ``Atoms`` or an MDAnalysis group; an unknown ``format``, or one without a
+            file.
 
         Examples
         --------

@@ -6,10 +6,15 @@ the command line, the benchmarks) computes it here.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from polhode._chunks import CHUNK, spans
+from polhode._coerce import as_float_array
+from polhode.errors import PolhodeError, ShapeError
 
 __all__ = ["angular_momentum_space", "max_relative_drift", "relative_drift"]
 
@@ -34,8 +39,39 @@ def angular_momentum_space(traj: Any) -> Array | None:
     ...                                    orientation=False)) is None
     True
     """
-    value = traj.angular_momentum_space
-    return None if value is None else np.asarray(value, dtype=np.float64)
+    value = _field(traj, "angular_momentum_space")
+    return None if value is None else _array(value, "angular_momentum_space", 2)
+
+
+#: What a trajectory must have for the functions here (polhode.Trajectory has them all).
+_FIELDS = ("energy", "angular_momentum_body", "angular_momentum_space")
+
+
+def _field(traj: Any, name: str) -> Any:
+    """``traj.name``, or a TypeError naming ``traj`` for an object that is no trajectory."""
+    try:
+        return getattr(traj, name)
+    except AttributeError:
+        raise TypeError(
+            "Expected `traj` to be a polhode.Trajectory (or an object with "
+            f"{', '.join(_FIELDS)}), got {type(traj).__name__}."
+        ) from None
+
+
+def _array(value: Any, name: str, trailing: int) -> Array:
+    """A trajectory's field as float64, with at least ``trailing`` dimensions (times, and 3
+    for a vector); errors name ``traj`` and the field."""
+    try:
+        array = as_float_array(f"traj.{name}", value)
+    except PolhodeError as error:  # named by the field in the message, `traj` the argument
+        raise type(error)(str(error), argument="traj") from None
+    if array.ndim < trailing or (trailing == 2 and array.shape[-1] != 3):
+        shape = "(..., M, 3)" if trailing == 2 else "(..., M)"
+        raise ShapeError(
+            f"Expected `traj.{name}` to have shape {shape}, got {tuple(array.shape)}.",
+            argument="traj",
+        )
+    return array
 
 
 def _against_first(error: Array, first: Array) -> Array:
@@ -79,16 +115,43 @@ def relative_drift(traj: Any) -> dict[str, Array]:
     >>> sorted(drift), drift["energy"].shape, float(drift["energy"][0])
     (['angular_momentum_norm', 'angular_momentum_space', 'energy'], (11,), 0.0)
     """
-    energy = np.asarray(traj.energy, dtype=np.float64)
-    out = {"energy": _against_first(np.abs(energy - energy[..., :1]), energy[..., :1])}
-    norm = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
-    out["angular_momentum_norm"] = _against_first(np.abs(norm - norm[..., :1]), norm[..., :1])
+    for name in _FIELDS:
+        _field(traj, name)  # a TypeError before any work for an object that is no trajectory
+    energy = _array(traj.energy, "energy", 1)
+    body = _array(traj.angular_momentum_body, "angular_momentum_body", 2)
     space = angular_momentum_space(traj)
+    for name, vector in (("angular_momentum_body", body), ("angular_momentum_space", space)):
+        if vector is not None and vector.shape[:-1] != energy.shape:
+            raise ShapeError(
+                f"Expected `traj.{name}` to have shape {energy.shape + (3,)} to match "
+                f"`traj.energy`, got {vector.shape}.",
+                argument="traj",
+            )
+    keys = ["energy", "angular_momentum_norm"]
     if space is not None:
-        first = space[..., :1, :]
-        out["angular_momentum_space"] = _against_first(
-            np.linalg.norm(space - first, axis=-1), np.linalg.norm(first, axis=-1)
-        )
+        keys.append("angular_momentum_space")
+    out = {key: np.empty(energy.shape) for key in keys}
+    # Bodies (rows) and times in blocks of about CHUNK values (polhode._chunks: Ctrl-C is not
+    # held up by one numpy call over a long trajectory); each value as the whole at once.
+    times = energy.shape[-1]
+    rows = energy.reshape(math.prod(energy.shape[:-1]), times)
+    flat = {key: value.reshape(rows.shape) for key, value in out.items()}
+    body_rows = body.reshape(*rows.shape, 3)
+    space_rows = None if space is None else space.reshape(*rows.shape, 3)
+    for bodies in spans(len(rows), max(1, CHUNK // max(times, 1))):
+        e0 = rows[bodies, :1]
+        n0 = np.linalg.norm(body_rows[bodies, :1], axis=-1)
+        s0 = None if space_rows is None else space_rows[bodies, :1, :]
+        for span in spans(times):
+            e = rows[bodies, span]
+            flat["energy"][bodies, span] = _against_first(np.abs(e - e0), e0)
+            n = np.linalg.norm(body_rows[bodies, span], axis=-1)
+            flat["angular_momentum_norm"][bodies, span] = _against_first(np.abs(n - n0), n0)
+            if space_rows is not None:
+                flat["angular_momentum_space"][bodies, span] = _against_first(
+                    np.linalg.norm(space_rows[bodies, span] - s0, axis=-1),
+                    np.linalg.norm(s0, axis=-1),
+                )
     return out
 
 

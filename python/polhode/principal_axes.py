@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core, _display
-from polhode._coerce import as_array, as_flag, as_float_array, as_scalar
+from polhode._coerce import as_array, as_flag, as_float_array, as_scalar, unmasked
 from polhode.errors import PolhodeError, ShapeError
 
 if TYPE_CHECKING:
@@ -65,6 +65,11 @@ class Principal:
         self.moments = moments
         self.axes = axes
         self.multiplicity = multiplicity
+
+    def __reduce__(self) -> tuple[type[Principal], tuple[Any, ...]]:
+        # Pickling and copying at every protocol (a class with __slots__ has no default below
+        # protocol 2).
+        return (type(self), (self.moments, self.axes, self.multiplicity))
 
     @property
     def rotation(self) -> Rotation:
@@ -273,7 +278,7 @@ def point_masses_inertia(masses: Any, positions: Any) -> NDArray[np.float64]:
     """
     m = as_array("masses", masses, (None,))
     if isinstance(positions, np.ndarray) and positions.dtype == np.float32:
-        r: NDArray[Any] = np.ascontiguousarray(positions)
+        r: NDArray[Any] = np.ascontiguousarray(unmasked("positions", positions))
     else:
         r = as_float_array("positions", positions)
     return _core.point_masses_inertia(m, r)

@@ -49,6 +49,15 @@ class Rotor:
     def __post_init__(self) -> None:
         _core.check_rotor(self)
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # Unpickled or deep-copied, a model is what its constructor made: its arrays read-only
+        # again (numpy's pickles load writeable) and its fields checked by the core.
+        for value in state.values():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+        self.__dict__.update(state)
+        self.__post_init__()
+
 
 def _motor(torque: Any) -> float | NDArray[np.float64] | Callable[..., Any]:
     if callable(torque):

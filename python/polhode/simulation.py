@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _core, _display
+from polhode import _chunks, _core, _display
+from polhode._chunks import accumulate, spans, unwrap
 from polhode._coerce import as_flag, as_integer, as_scalar
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._inputs import core_body as _body
@@ -192,31 +193,49 @@ class Trajectory:
         if quaternion.size == 0:
             # An empty batch: no angles, but the axes still checked.
             _euler_angles(np.array([[0.0, 0.0, 0.0, 1.0]]), seq)
-            angles = np.zeros(quaternion.shape[:-1] + (3,))
+            return np.zeros(quaternion.shape[:-1] + (3,))
+        if quaternion.ndim == 2:
+            angles = _euler_angles(quaternion, seq)
         else:
-            angles = np.stack(
-                [_euler_angles(q, seq) for q in quaternion.reshape(-1, *quaternion.shape[-2:])]
-            ).reshape(quaternion.shape[:-1] + (3,))
-        return np.degrees(angles) if degrees else angles
+            # Each body's angles straight into the batch's array (chunk by chunk: Ctrl-C).
+            angles = np.empty(quaternion.shape[:-1] + (3,))
+            rows = angles.reshape(-1, *angles.shape[-2:])
+            for k, q in enumerate(quaternion.reshape(-1, *quaternion.shape[-2:])):
+                one = _euler_angles(q, seq)
+                for span in spans(len(one)):
+                    rows[k, span] = one[span]
+        if degrees:
+            flat = angles.reshape(-1)
+            for span in spans(flat.size):
+                np.degrees(flat[span], out=flat[span])
+        return angles
 
 
 def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float64]:
     """Euler angles (M, 3) of the orientations (M, 4), continuous in time (see
-    :meth:`Trajectory.euler_angles`)."""
+    :meth:`Trajectory.euler_angles`).
+
+    In chunks of :data:`polhode._chunks.CHUNK` output times, the sequential steps (unwrapping,
+    the running sums) carried from chunk to chunk, so that Ctrl-C stops a long series within
+    a chunk's work (scipy's and numpy's calls hold the interpreter) with the bits of the whole
+    series done at once."""
     from scipy.spatial.transform import Rotation
 
-    rotation = Rotation.from_quat(quaternion)
-    try:
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message="Gimbal lock", category=UserWarning)
-            angles = rotation.as_euler(seq)
-    except ValueError as error:
-        raise ArgumentError(
-            f"Expected `seq` to be three axes as in scipy's as_euler (e.g. 'ZXZ', 'ZYX', 'xyz'), "
-            f"got {seq!r}: {error}",
-            argument="seq",
-        ) from None
-    if len(angles) == 0:
+    m = len(quaternion)
+    angles = np.empty((m, 3))
+    # scipy's conversion takes about 0.1 us per row: a quarter chunk at a time (~30 ms).
+    for span in spans(m, max(1, _chunks.CHUNK // 4)):
+        try:
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message="Gimbal lock", category=UserWarning)
+                angles[span] = Rotation.from_quat(quaternion[span]).as_euler(seq)
+        except ValueError as error:
+            raise ArgumentError(
+                f"Expected `seq` to be three axes as in scipy's as_euler (e.g. 'ZXZ', 'ZYX', "
+                f"'xyz'), got {seq!r}: {error}",
+                argument="seq",
+            ) from None
+    if m == 0:
         return angles
     # The two ends of the middle angle's range, and at each the combination first + sign *
     # third that the rotation depends on there (the other one is free): found by moving the
@@ -229,30 +248,56 @@ def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float
         Rotation.from_euler(seq, moved) * Rotation.from_euler(seq, probe).inv()
     ).magnitude()
     signs = np.where(keeps_sum < 1e-12, 1.0, -1.0)
-    nearest = np.argmin(np.abs(angles[:, 1, None] - ends), axis=1)
+    nearest = np.empty(m, dtype=np.intp)
+    locked = np.empty(m, dtype=bool)
+    for span in spans(m):
+        a = angles[span]
+        nearest[span] = np.argmin(np.abs(a[:, 1, None] - ends), axis=1)
+        locked[span] = (a[:, 2] == 0.0) & (np.abs(a[:, 1] - ends[nearest[span]]) <= 1e-6)
     sign = signs[nearest]
     # At a lock scipy sets the third angle to zero and puts the combination into the first:
     # the third keeps its previous value instead (0 before any), the first takes the rest.
-    locked = (angles[:, 2] == 0.0) & (np.abs(angles[:, 1] - ends[nearest]) <= 1e-6)
     if locked.any():
-        third = np.unwrap(angles[:, 2])
-        index = np.where(~locked, np.arange(len(angles)), -1)
-        np.maximum.accumulate(index, out=index)
-        keep = np.where(index >= 0, third[np.maximum(index, 0)], 0.0)[locked]
-        angles[locked, 0] -= sign[locked] * keep
-        angles[locked, 2] = keep
-    angles = np.unwrap(angles, axis=0)
+        third = unwrap(angles[:, 2])
+        index = np.empty(m, dtype=np.intp)
+        for span in spans(m):
+            index[span] = np.where(~locked[span], np.arange(span.start, span.stop), -1)
+        index = accumulate(np.maximum, index)
+        for span in spans(m):
+            here, at = locked[span], index[span]
+            keep = np.where(at >= 0, third[np.maximum(at, 0)], 0.0)[here]
+            a = angles[span]
+            a[here, 0] -= sign[span][here] * keep
+            a[here, 2] = keep
+    angles = unwrap(angles)
     # Near a lock (the middle angle within pi/8 of an end) the first and third angles swing by
     # about pi and unwrapping them apart can leave a whole turn in the combination that sets
     # the rotation there, which moves by less than pi between two times: whole turns of the
     # first angle put it back.
-    near = np.abs(angles[:, 1] - ends[nearest]) <= np.pi / 8
-    combination = angles[:, 0] + sign * angles[:, 2]
-    previous = np.concatenate([[0.0], angles[:-1, 0] + sign[1:] * angles[:-1, 2]])
-    turns = np.round((combination - previous) / (2 * np.pi))
-    turns[0] = 0.0
-    turns[~(near | np.concatenate([[False], near[:-1]]))] = 0.0
-    angles[:, 0] -= 2 * np.pi * np.cumsum(turns)
+    near = np.empty(m, dtype=bool)
+    for span in spans(m):
+        near[span] = np.abs(angles[span, 1] - ends[nearest[span]]) <= np.pi / 8
+    turns = np.empty(m)
+    for span in spans(m):
+        start, stop = span.start, span.stop
+        combination = angles[span, 0] + sign[span] * angles[span, 2]
+        # previous[k] = angles[k - 1, 0] + sign[k] angles[k - 1, 2], 0 at k = 0.
+        low = max(start - 1, 0)
+        previous = angles[low : stop - 1, 0] + sign[max(start, 1) : stop] * angles[
+            low : stop - 1, 2
+        ]
+        near_before = near[low : stop - 1]
+        if start == 0:
+            previous = np.concatenate([[0.0], previous])
+            near_before = np.concatenate([[False], near_before])
+        part = np.round((combination - previous) / (2 * np.pi))
+        if start == 0:
+            part[0] = 0.0
+        part[~(near[span] | near_before)] = 0.0
+        turns[span] = part
+    total = accumulate(np.add, turns)
+    for span in spans(m):
+        angles[span, 0] -= 2 * np.pi * total[span]
     return angles
 
 

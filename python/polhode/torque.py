@@ -90,6 +90,15 @@ class Torque:
     def __post_init__(self) -> None:
         _core.check_torque(self)
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # Unpickled or deep-copied, a model is what its constructor made: its arrays read-only
+        # again (numpy's pickles load writeable) and its fields checked by the core.
+        for value in state.values():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+        self.__dict__.update(state)
+        self.__post_init__()
+
     def __add__(self, other: object) -> Torque:
         if isinstance(other, Torque):
             return Sum([self, other])

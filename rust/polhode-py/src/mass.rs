@@ -351,7 +351,56 @@ impl PyMassProperties {
         }
         Ok(energy)
     }
+
+    /// The stored numbers, as Python floats: `(mass, center_of_mass, center_of_mass_low,
+    /// isotropic, factor)`, the vectors as 3-tuples and the factor as 3 rows (see the core's
+    /// `mass::Parts`). What pickling saves: `from_parts` gives the same body bit for bit.
+    fn parts(&self) -> StoredParts {
+        let p = self.0.parts();
+        let v = |x: nalgebra::Vector3<f64>| (x[0], x[1], x[2]);
+        let f = &p.factor;
+        let row = |i: usize| (f[(i, 0)], f[(i, 1)], f[(i, 2)]);
+        (
+            p.mass,
+            v(p.center_of_mass),
+            v(p.center_of_mass_low),
+            p.isotropic,
+            (row(0), row(1), row(2)),
+        )
+    }
+
+    /// The body of `parts()`'s numbers, checked by the core (`MassProperties::from_parts`).
+    #[staticmethod]
+    fn from_parts(
+        mass: f64,
+        center_of_mass: Triple,
+        center_of_mass_low: Triple,
+        isotropic: f64,
+        factor: (Triple, Triple, Triple),
+    ) -> CoreResult<Self> {
+        let v = |x: Triple| nalgebra::Vector3::new(x.0, x.1, x.2);
+        let (a, b, c) = factor;
+        wrap(MassProperties::from_parts(polhode::mass::Parts {
+            mass,
+            center_of_mass: v(center_of_mass),
+            center_of_mass_low: v(center_of_mass_low),
+            isotropic,
+            factor: nalgebra::Matrix3::new(a.0, a.1, a.2, b.0, b.1, b.2, c.0, c.1, c.2),
+        }))
+    }
+
+    /// Pickling (and `copy.deepcopy`): `MassProperties.from_parts(*self.parts())`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, StoredParts)> {
+        let from_parts = py.get_type::<Self>().getattr("from_parts")?;
+        Ok((from_parts, self.parts()))
+    }
 }
+
+/// Three numbers (a vector, a row).
+type Triple = (f64, f64, f64);
+
+/// What `MassProperties.parts()` returns.
+type StoredParts = (f64, Triple, Triple, f64, (Triple, Triple, Triple));
 
 fn finite_vector(name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<nalgebra::Vector3<f64>> {
     let v = vector3(name, a)?;

@@ -9,6 +9,7 @@
 mod factor;
 mod frames;
 mod mesh;
+mod parts;
 mod points;
 mod solids;
 mod topology;
@@ -17,6 +18,7 @@ pub use frames::{
     point_masses_inertia, point_masses_inertia_monitored, Position, FRAME_POINTS_CHUNK,
 };
 pub use mesh::MESH_CHUNK;
+pub use parts::Parts;
 pub use points::POINT_CHUNK;
 pub use solids::{Solid, SOLIDS};
 pub use topology::{merge_vertices, weld_tolerance, Merged, WELD_EXPONENT};
