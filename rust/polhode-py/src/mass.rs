@@ -5,9 +5,9 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
     PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
-use polhode::dynamics::Monitor;
 use polhode::mass::SOLIDS;
 use polhode::MassProperties;
+use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};

@@ -10,12 +10,13 @@ use std::sync::{Arc, Mutex};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
+use polhode::dynamics::{Method, MethodSettings, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::simulation::{
     orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Quantity,
     Simulation,
 };
+use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::intern;
 use pyo3::prelude::*;

@@ -17,8 +17,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
-use crate::dynamics::Monitor;
 use crate::error::{Error, Result};
+use crate::Monitor;
 
 /// Default relative tolerance under which two principal moments count as equal.
 ///

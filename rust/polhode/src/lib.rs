@@ -31,12 +31,14 @@ pub mod eigen;
 mod error;
 pub mod exact;
 pub mod mass;
+mod monitor;
 mod simd;
 pub mod simulation;
 
 pub use eigen::{symmetric_eigen3, Principal};
 pub use error::{Error, Result, Short};
 pub use mass::MassProperties;
+pub use monitor::Monitor;
 
 /// The README's Rust example, run as a doctest so that it stays true.
 #[cfg(doctest)]

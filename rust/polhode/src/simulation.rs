@@ -30,12 +30,12 @@ use rayon::prelude::*;
 use crate::dynamics::lanes;
 use crate::dynamics::{
     exact_range, integrate_body, integrate_gyrostat, BodyContext, Gyrostat, Method, Moments,
-    Monitor, Options, RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
+    Options, RotorSpec, Segment, State, Stats, Torque, TorqueSpec,
 };
 use crate::error::{finite, Short};
 use crate::exact::FreeRotation;
 use crate::mass::{check_rotation, MassProperties};
-use crate::{Error, Result};
+use crate::{Error, Monitor, Result};
 
 /// A body as [`simulate`] takes it.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,11 +2,11 @@
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use polhode::dynamics::{
-    integrate, Dop853Options, Method, Monitor, Options, SplittingOrder, State, TorqueSpec,
+    integrate, Dop853Options, Method, Options, SplittingOrder, State, TorqueSpec,
 };
 use polhode::exact::FreeRotation;
 use polhode::simulation::{simulate, Body, Quantity, Simulation};
-use polhode::{Error, MassProperties};
+use polhode::{Error, MassProperties, Monitor};
 
 fn methods() -> Vec<Method> {
     vec![

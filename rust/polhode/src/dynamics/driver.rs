@@ -5,7 +5,6 @@ use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
 use super::dop853::{self, Settings, Tolerance};
 use super::midpoint::Midpoint;
-use super::monitor::{Monitor, Progress};
 use super::rk4::Rk4;
 use super::splitting::{Splitting, SplittingOrder};
 use super::state::{Moments, State};
@@ -14,6 +13,7 @@ use super::system::{pack, Field, Load, NoTorque, System};
 use super::torque::{norm_of_any_size, Segment, Torque};
 use crate::error::{finite, positive, Short};
 use crate::exact::FreeRotation;
+use crate::monitor::{Monitor, Progress};
 use crate::{Error, Result};
 
 /// An integration method and its parameters.

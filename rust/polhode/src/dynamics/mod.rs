@@ -39,7 +39,6 @@ pub mod dop853;
 mod driver;
 pub(crate) mod lanes;
 pub mod midpoint;
-mod monitor;
 pub mod rk4;
 pub mod rotors;
 pub mod splitting;
@@ -57,7 +56,6 @@ pub use driver::{
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,
 };
-pub use monitor::Monitor;
 pub use rk4::{rk4_step, rk4_step_omega, rk4_step_omega_torqued, rk4_step_torqued};
 pub(crate) use rotors::check_rotor_method;
 pub use rotors::{

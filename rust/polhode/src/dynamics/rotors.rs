@@ -39,11 +39,11 @@ use super::driver::{
     check_method, check_times, dop853_segments, omega_scale, segments, substeps, Method, Options,
     ScaledSystem, Stats,
 };
-use super::monitor::{Monitor, Progress};
 use super::state::{quaternion_rate, State};
 use super::system::System;
 use super::torque::{unit_vector, Segment, Torque};
 use crate::error::{finite, positive, Short};
+use crate::monitor::{Monitor, Progress};
 use crate::{Error, Result};
 
 /// The largest number of rotor variables (a wheel has one, a damper three).

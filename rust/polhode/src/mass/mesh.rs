@@ -19,9 +19,9 @@ use rayon::prelude::*;
 
 use super::factor::SecondMoment;
 use super::{out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
-use crate::dynamics::Monitor;
 use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
+use crate::Monitor;
 
 /// Triangles per parallel chunk of the integrals (a multiple of `LANES * BLOCK`): the chunks
 /// are fixed, whatever the number of threads.

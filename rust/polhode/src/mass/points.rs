@@ -5,9 +5,9 @@ use rayon::prelude::*;
 
 use super::factor::{RowAccumulator, SecondMoment};
 use super::MassProperties;
-use crate::dynamics::Monitor;
 use crate::eigen::{exponent, ldexp};
 use crate::error::{finite, Error, Result};
+use crate::Monitor;
 
 /// Points per parallel chunk: each chunk is factored on its own and the factors combined, in
 /// order. Fixed, so that the result does not depend on the number of threads.
