@@ -38,6 +38,7 @@
 pub mod dop853;
 mod driver;
 pub(crate) mod lanes;
+mod method;
 pub mod midpoint;
 pub mod rk4;
 pub mod rotors;
@@ -48,11 +49,10 @@ mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
-pub(crate) use driver::{check_method, check_times, exact_range, omega_scale, start, start_state};
-pub use driver::{
-    integrate, integrate_body, Dop853Options, Method, MethodSettings, Options, Stats, Stepping,
-    Trajectory, METHODS,
-};
+pub(crate) use driver::{exact_range, omega_scale, start, start_state};
+pub use driver::{integrate, integrate_body, Trajectory};
+pub(crate) use method::{check_method, check_times};
+pub use method::{Dop853Options, Method, MethodSettings, Options, Stats, Stepping, METHODS};
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,
 };

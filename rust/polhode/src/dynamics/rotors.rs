@@ -35,10 +35,8 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
 use super::dop853::Tolerance;
-use super::driver::{
-    check_method, check_times, dop853_segments, omega_scale, segments, substeps, Method, Options,
-    ScaledSystem, Stats,
-};
+use super::driver::{dop853_segments, omega_scale, segments, substeps, ScaledSystem};
+use super::method::{check_method, check_times, Method, Options, Stats};
 use super::state::{quaternion_rate, State};
 use super::system::System;
 use super::torque::{unit_vector, Segment, Torque};

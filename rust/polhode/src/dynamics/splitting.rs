@@ -77,14 +77,6 @@ const Y6_3: f64 = -1.177_679_984_178_871;
 const Y6_0: f64 = 1.0 - 2.0 * (Y6_1 + Y6_2 + Y6_3);
 const YOSHIDA6: [f64; 7] = [Y6_1, Y6_2, Y6_3, Y6_0, Y6_3, Y6_2, Y6_1];
 
-/// The splitting order of the axes `[outer, inner, middle]`: the smallest moment outermost,
-/// the largest in the middle (ties broken by index).
-pub(crate) fn axis_order(moments: &Vector3<f64>) -> [usize; 3] {
-    let mut idx = [0usize, 1, 2];
-    idx.sort_by(|&a, &b| moments[a].total_cmp(&moments[b]));
-    [idx[0], idx[1], idx[2]]
-}
-
 /// `(sin x, cos x - 1)`: Taylor polynomials for `|x| <= 1/4` (truncation below 1e-20 relative,
 /// about 1 ulp like the library functions, and several times faster), the library beyond.
 ///
@@ -483,6 +475,7 @@ pub fn splitting_step_torqued<T: Torque + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::state::axis_order;
 
     /// Largest relative energy error over `n` Strang steps with the axis order `axes`.
     fn energy_error(
