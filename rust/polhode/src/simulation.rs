@@ -786,7 +786,7 @@ fn exact_body(
         let mut failed: Option<Error> = None;
         let evaluated = exact_range(&free, t, start..start + count, options, |j, w, q| {
             if failed.is_some() {
-                return;
+                return Ok(());
             }
             let k = j - start;
             // As `Sample::write`: L = I omega and T in principal axes, then into body axes.
@@ -820,7 +820,7 @@ fn exact_body(
                 sum += q[0] + q[1] + q[2] + q[3] + l[0] + l[1] + l[2];
             }
             if sum.is_finite() {
-                return;
+                return Ok(());
             }
             let rows: [(Quantity, &[f64]); 5] = [
                 (Quantity::Omega, &omega[3 * k..3 * k + 3]),
@@ -841,9 +841,10 @@ fn exact_body(
             for (quantity, values) in rows {
                 if let Some(&value) = values.iter().find(|x| !x.is_finite()) {
                     failed = Some(not_finite(quantity, t[j], value));
-                    return;
+                    return Ok(());
                 }
             }
+            Ok(())
         });
         (evaluated.err(), failed)
     };

@@ -23,7 +23,7 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use nalgebra::{UnitQuaternion, Vector3, Vector4};
 
-use super::driver::{check_omega_output, checked_unit, fixed_total, segments, substeps};
+use super::loops::{check_omega_output, checked_unit, fixed_total, segments, substeps};
 use super::method::{Method, Options, Stats};
 use super::midpoint;
 use super::state::{Moments, State};

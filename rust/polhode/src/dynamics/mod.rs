@@ -38,6 +38,7 @@
 pub mod dop853;
 mod driver;
 pub(crate) mod lanes;
+mod loops;
 mod method;
 pub mod midpoint;
 pub mod rk4;

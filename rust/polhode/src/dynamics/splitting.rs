@@ -26,7 +26,7 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use super::state::{Moments, State};
-use super::stepper::{Stepper, Vars};
+use super::stepper::{BodyStepper, Stepper, Vars};
 use super::system::{Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
 use crate::{Error, Result, Short};
@@ -315,7 +315,8 @@ impl<'a, L: Load, const ORIENTATION: bool> Splitting<'a, L, ORIENTATION> {
     }
 }
 
-impl<L: Load, const ORIENTATION: bool> Stepper for Splitting<'_, L, ORIENTATION> {
+/// The splitting integrates the angular momentum `m = I w`.
+impl<L: Load, const ORIENTATION: bool> BodyStepper for Splitting<'_, L, ORIENTATION> {
     #[inline(always)]
     fn vars(&self, state: &State) -> Vars {
         (
@@ -328,6 +329,10 @@ impl<L: Load, const ORIENTATION: bool> Stepper for Splitting<'_, L, ORIENTATION>
     fn omega(&self, (m, _): &Vars) -> Vector3<f64> {
         m.component_mul(self.body.inverse())
     }
+}
+
+impl<L: Load, const ORIENTATION: bool> Stepper for Splitting<'_, L, ORIENTATION> {
+    type Vars = Vars;
 
     #[inline(always)]
     fn step(&mut self, segment: &Segment, t: f64, (m, q): &mut Vars, h: f64) -> Result<()> {
