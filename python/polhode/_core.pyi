@@ -8,6 +8,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "METHODS",
+    "QUANTITIES",
     "SOLIDS",
     "MassProperties",
     "cancel_all",
@@ -22,6 +23,7 @@ __all__ = [
 ]
 
 METHODS: dict[str, str]
+QUANTITIES: tuple[dict[str, Any], ...]
 SOLIDS: dict[str, tuple[tuple[str, int], ...]]
 
 @final

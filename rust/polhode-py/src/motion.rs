@@ -13,14 +13,15 @@ use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::simulation::{
-    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Quantity,
-    Simulation,
+    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Dim, Outputs,
+    Quantity, Simulation,
 };
 use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString};
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 
 use crate::convert::bad_shape;
 use crate::errors::{argument_error, CoreError};
@@ -335,18 +336,18 @@ pub fn check_motion(
     Ok(())
 }
 
-/// A quantity's name as a Python string made once per process (`intern!`): a small call
-/// then neither builds nor hashes its keys anew, nor does the Python layer reading them.
-fn quantity_key<'py>(py: Python<'py>, quantity: Quantity) -> Bound<'py, PyString> {
-    match quantity {
-        Quantity::Omega => intern!(py, "omega"),
-        Quantity::Quaternion => intern!(py, "quaternion"),
-        Quantity::AngularMomentumSpace => intern!(py, "angular_momentum_space"),
-        Quantity::AngularMomentumBody => intern!(py, "angular_momentum_body"),
-        Quantity::Energy => intern!(py, "energy"),
-        Quantity::RotorRates => intern!(py, "rotor_rates"),
-    }
-    .clone()
+/// The quantities' names as Python strings, made once per process (in the order of
+/// `Quantity::ALL`): a small call then neither builds nor hashes its keys anew, nor does the
+/// Python layer reading them.
+static QUANTITY_KEYS: PyOnceLock<Vec<Py<PyString>>> = PyOnceLock::new();
+
+fn quantity_keys(py: Python<'_>) -> &Vec<Py<PyString>> {
+    QUANTITY_KEYS.get_or_init(py, || {
+        Quantity::ALL
+            .iter()
+            .map(|q| PyString::intern(py, q.name()).unbind())
+            .collect()
+    })
 }
 
 /// The fields of a `Trajectory` by name, in their order (what `polhode.simulate` sets in one
@@ -384,14 +385,14 @@ fn to_dict<'py>(
     };
     // The columns come in the order of Quantity::ALL, the fields' order.
     let mut columns = outputs.columns.into_iter().peekable();
-    for quantity in Quantity::ALL {
-        match columns.next_if(|(q, _)| *q == quantity) {
+    for (quantity, key) in Quantity::ALL.iter().zip(quantity_keys(py)) {
+        match columns.next_if(|(q, _)| q == quantity) {
             Some((_, data)) => {
                 let mut shape = vec![m];
                 shape.extend(quantity.shape(outputs.rotors));
-                dict.set_item(quantity_key(py, quantity), array(shape, data)?)?;
+                dict.set_item(key.bind(py), array(shape, data)?)?;
             }
-            None => dict.set_item(quantity_key(py, quantity), py.None())?,
+            None => dict.set_item(key.bind(py), py.None())?,
         }
     }
     if columns.next().is_some() {
@@ -471,4 +472,42 @@ pub fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         table.set_item(name, stepping.name())?;
     }
     Ok(table)
+}
+
+/// The output quantities, in the order of the `Trajectory`'s fields: a tuple of dicts with
+/// `name`, `shape` (per output time; `"rotors"` for the number of rotors), `unit` (SI),
+/// `frame` (`"body"`, `"space"` or `"none"`), `description` and `requires` (`"orientation"`,
+/// `"rotors"`: what the run needs to report it). What `polhode` reads to know its outputs.
+pub fn quantities(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
+    let rows = Quantity::ALL
+        .iter()
+        .map(|q| -> PyResult<Bound<'_, PyDict>> {
+            let row = PyDict::new(py);
+            row.set_item("name", q.name())?;
+            let shape: Vec<Bound<'_, PyAny>> = q
+                .dims()
+                .iter()
+                .map(|d| match d {
+                    Dim::Fixed(n) => n
+                        .into_pyobject(py)
+                        .map_or_else(|e| match e {}, Bound::into_any),
+                    Dim::Rotors => PyString::new(py, "rotors").into_any(),
+                })
+                .collect();
+            row.set_item("shape", PyTuple::new(py, shape)?)?;
+            row.set_item("unit", q.unit())?;
+            row.set_item("frame", q.frame().name())?;
+            row.set_item("description", q.description())?;
+            let mut requires = Vec::new();
+            if q.needs_orientation() {
+                requires.push("orientation");
+            }
+            if q.needs_rotors() {
+                requires.push("rotors");
+            }
+            row.set_item("requires", PyTuple::new(py, requires)?)?;
+            Ok(row)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    PyTuple::new(py, rows)
 }

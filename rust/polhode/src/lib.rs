@@ -31,6 +31,7 @@ pub mod eigen;
 mod error;
 pub mod exact;
 pub mod mass;
+mod memory;
 mod monitor;
 mod simd;
 pub mod simulation;

@@ -568,7 +568,7 @@ fn the_exact_solution_at_many_times_is_bitwise_each_time_alone_whatever_the_thre
                 for ((quantity, data), row) in once.columns.iter().zip(&rows) {
                     let w = quantity.width(0);
                     let got = &row[j * w..(j + 1) * w];
-                    if *quantity != Quantity::Quaternion {
+                    if *quantity != Quantity::QUATERNION {
                         assert_eq!(got, &data[..], "body {i}, {quantity:?} at t[{j}]");
                         continue;
                     }

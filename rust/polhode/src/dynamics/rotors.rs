@@ -424,6 +424,23 @@ impl Gyrostat {
         v
     }
 
+    /// The rotor variables at the start ([`Gyrostat::initial_variables`]) for the body's
+    /// angular velocity `omega` (principal axes), checked: an error naming `rotors` if they or
+    /// the total kinetic energy overflow double precision.
+    pub(crate) fn start(&self, omega: &Vector3<f64>) -> Result<Vec<f64>> {
+        let vars = self.initial_variables(omega);
+        let energy = self.energy(omega, &vars);
+        if !(energy.is_finite() && vars.iter().all(|v| v.is_finite())) {
+            return Err(Error::InvalidArgument {
+                name: "rotors".into(),
+                reason: "the rotors' angular momentum or kinetic energy at the start overflows \
+                         double precision."
+                    .into(),
+            });
+        }
+        Ok(vars)
+    }
+
     /// The total angular momentum `H = A w + sum h a + sum J s`, principal axes.
     #[must_use]
     pub fn angular_momentum(&self, omega: &Vector3<f64>, vars: &[f64]) -> Vector3<f64> {
@@ -718,16 +735,7 @@ fn run<const N: usize>(
     for i in 0..4 {
         y0[3 + i] = q0[i];
     }
-    let vars0 = gyrostat.initial_variables(&state0.omega);
-    let energy0 = gyrostat.energy(&state0.omega, &vars0);
-    if !(energy0.is_finite() && vars0.iter().all(|v| v.is_finite())) {
-        return Err(Error::InvalidArgument {
-            name: "rotors".into(),
-            reason: "the rotors' angular momentum or kinetic energy at the start overflows double \
-                     precision."
-                .into(),
-        });
-    }
+    let vars0 = gyrostat.start(&state0.omega)?;
     // Without a torque, motors or dampers the equations are homogeneous of degree 2 in the
     // rates (w and the wheels' momenta): far from 1 they are integrated in units of a power of
     // two, as a rigid body's (see `driver::omega_scale`); at |w| ~ 1e-160 the products of the
