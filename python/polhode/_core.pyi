@@ -80,6 +80,7 @@ def simulate(
     body: NDArray[np.float64] | MassProperties | list[MassProperties],
     omega0: NDArray[np.float64],
     t: NDArray[np.float64],
+    *,
     orientation0: NDArray[np.float64] | None = None,
     t0: float = 0.0,
     method: str = "auto",

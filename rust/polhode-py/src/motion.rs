@@ -12,6 +12,7 @@ use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, METHODS};
 use polhode::exact::{FreeRotation, Regime};
+use polhode::settings::count;
 use polhode::simulation::{
     orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Dim, Outputs,
     Quantity, Simulation,
@@ -24,7 +25,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 
 use crate::convert::bad_shape;
-use crate::errors::{argument_error, CoreError};
+use crate::errors::CoreError;
 use crate::mass::PyMassProperties;
 use crate::rotors::rotor_spec;
 use crate::torque::{calls_python, torque_spec, Raised};
@@ -163,7 +164,7 @@ fn orientations(
 /// work to another thread. A batch runs on the rayon pool (see [`run_on_pool`]).
 #[pyfunction]
 #[pyo3(signature = (
-    body, omega0, t, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
+    body, omega0, t, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
     rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None,
     rotors=None
 ))]
@@ -218,12 +219,7 @@ pub fn simulate<'py>(
         rotors: !rotors.is_empty(),
     };
     let method = Method::from_name(method, &settings).map_err(CoreError)?;
-    if max_steps < 1 {
-        return Err(argument_error(
-            "max_steps",
-            &format!("expected at least 1, got {max_steps}."),
-        ));
-    }
+    let max_steps = count("max_steps", max_steps).map_err(CoreError)?;
     if let Some(progress) = progress.as_ref().filter(|p| !p.is_callable()) {
         return Err(PyTypeError::new_err(format!(
             "Expected `progress` to be a callable taking the fraction done, or None, got {}.",
@@ -241,7 +237,7 @@ pub fn simulate<'py>(
         method,
         t0,
         with_orientation: orientation,
-        max_steps: max_steps as u64,
+        max_steps,
         torque: spec,
         parallel: !inline,
         rotors,
@@ -284,11 +280,9 @@ pub fn simulate<'py>(
     to_dict(py, outputs, n.is_none(), run.method.name(), t.as_any())
 }
 
-/// Checks one body, its initial angular velocity and its rotors as `simulate` checks them (the
-/// body's shape and moments, a finite `omega0` of shape (3,) and a finite energy, the rotors
-/// inside the body), with the same errors, and computes nothing else: the core runs them
-/// through a zero-step rk4 run of the body at its initial time, and nothing is converted back.
-/// What `polhode.analyze` checks before its closed form, at a fraction of a `simulate` call.
+/// Checks one body, its initial angular velocity and its rotors as `simulate` checks them, with
+/// the same errors, and computes nothing else (`polhode::simulation::check_motion`): what
+/// `polhode.analyze` checks before its closed form.
 #[pyfunction]
 #[pyo3(signature = (body, omega0, *, rotors=None))]
 pub fn check_motion(
@@ -307,32 +301,8 @@ pub fn check_motion(
         .iter()
         .map(|r| rotor_spec(r, &raised))
         .collect::<PyResult<Vec<_>>>()?;
-    let settings = MethodSettings {
-        dt: Some(1.0),
-        order: 4,
-        rtol: 1e-10,
-        atol: None,
-        torque: false,
-        rotors: !rotors.is_empty(),
-    };
-    let run = Simulation {
-        method: Method::from_name("rk4", &settings).map_err(CoreError)?,
-        t0: 0.0,
-        with_orientation: false,
-        max_steps: 1,
-        torque: None,
-        parallel: false,
-        rotors,
-    };
-    polhode::simulation::simulate(
-        &run,
-        &bodies,
-        &rows3(&omega_data),
-        &[UnitQuaternion::identity()],
-        &[0.0],
-        None,
-    )
-    .map_err(CoreError)?;
+    let omega0 = Vector3::from_column_slice(&omega_data);
+    polhode::simulation::check_motion(&bodies[0], &omega0, &rotors).map_err(CoreError)?;
     Ok(())
 }
 

@@ -33,6 +33,7 @@ pub mod exact;
 pub mod mass;
 mod memory;
 mod monitor;
+pub mod settings;
 mod simd;
 pub mod simulation;
 

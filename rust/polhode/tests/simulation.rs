@@ -260,7 +260,7 @@ fn gravity_takes_mass_and_centre_of_mass_from_a_body() {
     )
     .unwrap();
     // The same top given by its moments about the pivot, with the mass and centre of mass.
-    let about = top.inertia_about(&pivot);
+    let about = top.inertia_about(&pivot).unwrap();
     let explicit = Simulation {
         torque: Some(TorqueSpec::Gravity {
             gravity: Vector3::new(0.0, 0.0, -9.81),

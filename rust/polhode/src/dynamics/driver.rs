@@ -447,12 +447,6 @@ pub(crate) fn start(
     check_method(method, options)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
-    if options.max_steps == 0 {
-        return Err(Error::NonPositive {
-            name: "max_steps".into(),
-            value: 0.0,
-        });
-    }
     normalised(state0)
 }
 

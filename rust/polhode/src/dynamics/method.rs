@@ -3,7 +3,8 @@
 
 use super::splitting::SplittingOrder;
 use super::torque::Torque;
-use crate::error::{finite, positive, Short};
+use crate::error::{finite, Short};
+use crate::settings::{choice, count_u64, Setting};
 use crate::{Error, Monitor, Result};
 
 /// An integration method and its parameters.
@@ -103,17 +104,52 @@ impl Default for MethodSettings {
     }
 }
 
+impl MethodSettings {
+    /// Checks every value given, for the method named `method` (a row of [`METHODS`]): `dt`
+    /// (required by a fixed-step method; a step: [`Setting::Step`]), `order` (2, 4 or 6),
+    /// `rtol` ([`Setting::RelativeTolerance`]) and `atol` ([`Setting::AbsoluteTolerance`]),
+    /// whatever the method uses: a value a method does not use is still a value given.
+    ///
+    /// # Errors
+    /// The first bad value's, naming it.
+    pub fn check(&self, method: &str) -> Result<()> {
+        match self.dt {
+            Some(dt) => {
+                Setting::Step.check("dt", dt)?;
+            }
+            None if METHODS.contains(&(method, Stepping::Fixed)) => {
+                return Err(Error::InvalidArgument {
+                    name: "dt".into(),
+                    reason: format!(
+                        "expected `dt` (the largest step) for method {method:?}, got None."
+                    ),
+                });
+            }
+            None => {}
+        }
+        choice("order", self.order, &[2, 4, 6], "method \"splitting\"")?;
+        Setting::RelativeTolerance.check("rtol", self.rtol)?;
+        if let Some(atol) = self.atol {
+            Setting::AbsoluteTolerance.check("atol", atol)?;
+        }
+        Ok(())
+    }
+}
+
 impl Method {
-    /// The method a user names (a row of [`METHODS`]) with its settings; the values themselves
-    /// are checked when it runs. Errors name `method`, `dt` (a fixed-step method without one)
-    /// or `order`.
+    /// The method a user names (a row of [`METHODS`]) with its settings, each checked where
+    /// it is received ([`MethodSettings::check`]). Errors name `method`, `dt`, `order`,
+    /// `rtol` or `atol`.
     pub fn from_name(name: &str, settings: &MethodSettings) -> Result<Self> {
-        let dt = || {
-            settings.dt.ok_or_else(|| Error::InvalidArgument {
-                name: "dt".into(),
-                reason: format!("expected `dt` (the largest step) for method {name:?}, got None."),
-            })
-        };
+        if !METHODS.iter().any(|(n, _)| *n == name) {
+            let names: Vec<String> = METHODS.iter().map(|(n, _)| format!("{n:?}")).collect();
+            return Err(Error::InvalidArgument {
+                name: "method".into(),
+                reason: format!("expected one of {}, got {name:?}.", names.join(", ")),
+            });
+        }
+        settings.check(name)?;
+        let dt = settings.dt.unwrap_or(f64::NAN);
         let dop853 = Method::Dop853(Dop853Options {
             rtol: settings.rtol,
             atol: settings.atol,
@@ -121,33 +157,18 @@ impl Method {
         });
         Ok(match name {
             "auto" if settings.torque || settings.rotors => dop853,
-            "auto" | "exact" => Method::Exact,
             "splitting" => Method::Splitting {
-                dt: dt()?,
+                dt,
                 order: match settings.order {
                     2 => SplittingOrder::Two,
-                    4 => SplittingOrder::Four,
                     6 => SplittingOrder::Six,
-                    other => {
-                        return Err(Error::InvalidArgument {
-                            name: "order".into(),
-                            reason: format!(
-                                "expected 2, 4 or 6 for method \"splitting\", got {other}."
-                            ),
-                        })
-                    }
+                    _ => SplittingOrder::Four,
                 },
             },
-            "midpoint" => Method::Midpoint { dt: dt()? },
-            "rk4" => Method::Rk4 { dt: dt()? },
+            "midpoint" => Method::Midpoint { dt },
+            "rk4" => Method::Rk4 { dt },
             "dop853" => dop853,
-            other => {
-                let names: Vec<String> = METHODS.iter().map(|(n, _)| format!("{n:?}")).collect();
-                return Err(Error::InvalidArgument {
-                    name: "method".into(),
-                    reason: format!("expected one of {}, got {other:?}.", names.join(", ")),
-                });
-            }
+            _ => Method::Exact,
         })
     }
 
@@ -167,7 +188,7 @@ impl Method {
 /// Settings of the adaptive [`Method::Dop853`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dop853Options {
-    /// Relative tolerance, `>= 1e-15` (default `1e-10`).
+    /// Relative tolerance, in `[1e-15, 1)` (default `1e-10`).
     pub rtol: f64,
     /// Absolute tolerance on the angular velocity, in its units (default `rtol |omega0|`, or
     /// for a body starting at rest `rtol |omega'(t0)| (t_end - t0)`). The quaternion
@@ -273,30 +294,24 @@ pub(crate) fn check_times(times: &[f64], t0: f64) -> Result<()> {
     Ok(())
 }
 
+/// Checks a run's method and options: the method's steps and tolerances (each through
+/// [`Setting`]), `max_steps` (a [`count`](crate::settings::count)), and no torque for the
+/// exact solution.
 pub(crate) fn check_method(method: &Method, options: &Options) -> Result<()> {
     match method {
         Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
-            positive("dt", *dt)?;
+            Setting::Step.check("dt", *dt)?;
         }
         Method::Dop853(o) => {
-            positive("rtol", o.rtol)?;
-            if o.rtol < 1e-15 {
-                return Err(Error::InvalidArgument {
-                    name: "rtol".into(),
-                    reason: format!(
-                        "expected rtol >= 1e-15 (double precision), got {}.",
-                        Short(o.rtol)
-                    ),
-                });
-            }
+            Setting::RelativeTolerance.check("rtol", o.rtol)?;
             if let Some(a) = o.atol {
-                positive("atol", a)?;
+                Setting::AbsoluteTolerance.check("atol", a)?;
             }
             if let Some(h) = o.first_step {
-                positive("first_step", h)?;
+                Setting::Step.check("first_step", h)?;
             }
             if let Some(h) = o.max_step {
-                positive("max_step", h)?;
+                Setting::Step.check("max_step", h)?;
             }
         }
         Method::Exact => {
@@ -309,5 +324,6 @@ pub(crate) fn check_method(method: &Method, options: &Options) -> Result<()> {
             }
         }
     }
+    count_u64("max_steps", options.max_steps)?;
     Ok(())
 }

@@ -682,12 +682,6 @@ pub(crate) fn run_gyrostat(
     check_method(method, options)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
-    if options.max_steps == 0 {
-        return Err(Error::NonPositive {
-            name: "max_steps".into(),
-            value: 0.0,
-        });
-    }
     match gyrostat.variables {
         0..=3 => run::<10>(method, gyrostat, state0, times, options, sink),
         4..=6 => run::<13>(method, gyrostat, state0, times, options, sink),

@@ -158,7 +158,7 @@ fn principal_of(
         }
         Body::MassProperties(mp) => match pivot {
             Some(pivot) => {
-                let inertia = mp.inertia_about(&pivot);
+                let inertia = mp.inertia_about_unchecked(&pivot);
                 if !inertia.iter().all(|x| x.is_finite()) {
                     // The body's own inertia is finite: the pivot is too far from it.
                     return Err(Error::InvalidArgument {

@@ -93,13 +93,11 @@ impl Simulation {
             });
         }
         check_times(t, self.t0)?;
-        check_method(&self.method, &Options::default())?;
-        if self.max_steps == 0 {
-            return Err(Error::NonPositive {
-                name: "max_steps".into(),
-                value: 0.0,
-            });
-        }
+        let options = Options {
+            max_steps: self.max_steps,
+            ..Options::default()
+        };
+        check_method(&self.method, &options)?;
         if let (Method::Exact, Some(_)) = (&self.method, &self.torque) {
             return Err(Error::InvalidArgument {
                 name: "torque".into(),
