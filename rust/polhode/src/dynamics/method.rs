@@ -29,7 +29,7 @@ pub enum Method {
     },
     /// Adaptive Dormand-Prince 8(5,3) (see [`super::dop853`]).
     Dop853(Dop853Options),
-    /// The exact solution of the torque-free body ([`FreeRotation`]) evaluated at each output
+    /// The exact solution of the torque-free body ([`crate::exact::FreeRotation`]) evaluated at each output
     /// time: no steps, torque-free only.
     Exact,
 }

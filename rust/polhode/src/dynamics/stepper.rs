@@ -13,7 +13,7 @@ use super::torque::Segment;
 use crate::{Error, Result};
 
 /// The variables of a fixed-step method: a 3-vector (the angular velocity, or what the method
-/// integrates instead, see [`Stepper::omega`]) and the raw orientation quaternion
+/// integrates instead, see [`BodyStepper::omega`]) and the raw orientation quaternion
 /// `(x, y, z, w)`, left untouched by a method that does not integrate the orientation.
 pub(crate) type Vars = (Vector3<f64>, Vector4<f64>);
 

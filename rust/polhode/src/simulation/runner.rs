@@ -95,7 +95,7 @@ pub(crate) trait Equations: Sync {
         writer.finish(ran)
     }
 
-    /// Whether the bodies run in blocks of SIMD lanes (see [`lane_blocks`]).
+    /// Whether the bodies run in blocks of SIMD lanes (see [`block_of_lanes`]).
     fn in_lanes(&self, ctx: &Context) -> bool {
         let _ = ctx;
         false
