@@ -833,8 +833,7 @@ fn block_sums(
     let mut lightest = [f64::INFINITY; L];
     let mut farthest = [0.0f64; L];
     {
-        let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) =
-            in_blocks::<L>(cols, weight, n);
+        let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) = in_blocks::<L>(cols, weight, n);
         for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
             for l in 0..L {
                 s0[l] += m[l];
