@@ -4,6 +4,8 @@
 //! writer of one body's samples into its share.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use rayon::iter::plumbing::{bridge, Consumer, Producer, ProducerCallback, UnindexedConsumer};
+use rayon::prelude::*;
 
 use super::job::Job;
 use super::quantity::{write_row, Quantity, Sample};
@@ -176,6 +178,111 @@ impl<'a> Share<'a> {
         Ok(())
     }
 }
+
+impl<'a> Share<'a> {
+    /// Its blocks of `size` consecutive bodies (the last one shorter), as a parallel iterator
+    /// that rayon splits at block boundaries, without making a list of them.
+    pub(crate) fn blocks(self, size: usize) -> Blocks<'a> {
+        Blocks {
+            share: self,
+            size: size.max(1),
+        }
+    }
+}
+
+/// The blocks of a [`Share`] (see [`Share::blocks`]): an indexed parallel iterator, its own
+/// producer.
+pub(crate) struct Blocks<'a> {
+    share: Share<'a>,
+    size: usize,
+}
+
+impl<'a> ParallelIterator for Blocks<'a> {
+    type Item = Share<'a>;
+
+    fn drive_unindexed<C: UnindexedConsumer<Self::Item>>(self, consumer: C) -> C::Result {
+        bridge(self, consumer)
+    }
+
+    fn opt_len(&self) -> Option<usize> {
+        Some(self.len())
+    }
+}
+
+impl IndexedParallelIterator for Blocks<'_> {
+    fn len(&self) -> usize {
+        self.share.count.div_ceil(self.size)
+    }
+
+    fn drive<C: Consumer<Self::Item>>(self, consumer: C) -> C::Result {
+        bridge(self, consumer)
+    }
+
+    fn with_producer<CB: ProducerCallback<Self::Item>>(self, callback: CB) -> CB::Output {
+        callback.callback(BlockProducer {
+            share: self.share,
+            size: self.size,
+        })
+    }
+}
+
+/// The producer of [`Blocks`], and its sequential iterator.
+struct BlockProducer<'a> {
+    share: Share<'a>,
+    size: usize,
+}
+
+impl<'a> Producer for BlockProducer<'a> {
+    type Item = Share<'a>;
+    type IntoIter = Self;
+
+    fn into_iter(self) -> Self {
+        self
+    }
+
+    fn split_at(self, index: usize) -> (Self, Self) {
+        let (head, tail) = self.share.split_at(index * self.size);
+        let size = self.size;
+        (
+            BlockProducer { share: head, size },
+            BlockProducer { share: tail, size },
+        )
+    }
+}
+
+impl<'a> Iterator for BlockProducer<'a> {
+    type Item = Share<'a>;
+
+    fn next(&mut self) -> Option<Share<'a>> {
+        if self.share.count == 0 {
+            return None;
+        }
+        let rest = std::mem::replace(&mut self.share, Share::empty());
+        let (block, tail) = rest.split_at(self.size);
+        self.share = tail;
+        Some(block)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = self.share.count.div_ceil(self.size);
+        (n, Some(n))
+    }
+}
+
+impl DoubleEndedIterator for BlockProducer<'_> {
+    fn next_back(&mut self) -> Option<Self::Item> {
+        let n = self.share.count.div_ceil(self.size);
+        if n == 0 {
+            return None;
+        }
+        let rest = std::mem::replace(&mut self.share, Share::empty());
+        let (head, last) = rest.split_at((n - 1) * self.size);
+        self.share = head;
+        Some(last)
+    }
+}
+
+impl ExactSizeIterator for BlockProducer<'_> {}
 
 /// One body's share of the outputs: its index, its rows of each column (in the order of
 /// [`Outputs::columns`]; the entries past them empty), its principal moments (3 numbers) and
