@@ -162,6 +162,42 @@ def test_dop853_tolerances(name, kw):
     raises(ph.PolhodeError, name, lambda: ph.simulate(MOMENTS, W, 1.0, method="dop853", **kw))
 
 
+@pytest.mark.parametrize("rtol", [1.0, 2.0, 1e300, INF], ids=["1", "2", "1e300", "inf"])
+@pytest.mark.parametrize("method", ["dop853", "auto", "rk4", "exact"])
+def test_a_relative_tolerance_of_one_or_more_is_refused(method, rtol):
+    """Was accepted, and dop853 returned garbage (|L| drifted by 37 at rtol 1, by 1.6e21 at
+    1e300). Checked where the core receives it, whatever the method (rk4 does not use it, but
+    a user who gives it expects it to mean something)."""
+    dt = {"dt": 0.1} if method == "rk4" else {}
+    raises(
+        ph.PolhodeError,
+        "`rtol`",
+        lambda: ph.simulate(MOMENTS, W, 1.0, method=method, rtol=rtol, **dt),
+    )
+
+
+def test_a_relative_tolerance_below_one_runs():
+    """The largest tolerance below 1 is valid (it asks for little, but for something): the
+    energy of a torque-free run is then still the initial one to the solver's few digits."""
+    sol = ph.simulate(MOMENTS, W, [0.0, 1.0], method="dop853", rtol=0.5)
+    energy = 0.5 * sum(i * w * w for i, w in zip(MOMENTS, W, strict=True))
+    assert abs(sol.energy[-1] - energy) <= 0.5 * energy
+
+
+@pytest.mark.parametrize(
+    ("name", "kwargs"),
+    [
+        ("order", {"method": "rk4", "dt": 0.1, "order": 5}),
+        ("dt", {"method": "dop853", "dt": -1.0}),
+        ("dt", {"method": "exact", "dt": NAN}),
+        ("atol", {"method": "rk4", "dt": 0.1, "atol": -1.0}),
+    ],
+)
+def test_every_setting_given_is_checked_whatever_the_method(name, kwargs):
+    """Was ignored by the methods that do not use it."""
+    raises(ph.PolhodeError, f"`{name}`", lambda: ph.simulate(MOMENTS, W, 1.0, **kwargs))
+
+
 def test_rtol_wrong_type():
     raises(TypeError, "rtol", lambda: ph.simulate(MOMENTS, W, 1.0, method="dop853", rtol="tight"))
 

@@ -8,6 +8,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "METHODS",
+    "QUANTITIES",
     "SOLIDS",
     "MassProperties",
     "cancel_all",
@@ -23,6 +24,7 @@ __all__ = [
 ]
 
 METHODS: dict[str, str]
+QUANTITIES: tuple[dict[str, Any], ...]
 SOLIDS: dict[str, tuple[tuple[str, int], ...]]
 
 @final
@@ -95,6 +97,7 @@ def simulate(
     body: NDArray[np.float64] | MassProperties | list[MassProperties],
     omega0: NDArray[np.float64],
     t: NDArray[np.float64],
+    *,
     orientation0: NDArray[np.float64] | None = None,
     t0: float = 0.0,
     method: str = "auto",

@@ -538,25 +538,22 @@ def simulate(
         _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
     callback, bar = (None, None) if progress is False else _progress(progress)
     try:
-        # By position, in the order of the core's signature (body, omega0, t, orientation0,
-        # t0, method, dt, order, rtol, atol, torque, orientation, max_steps, progress,
-        # rotors): no keyword names to match.
         outputs = _core.simulate(
             _body(body),
             omega,
             times,
-            None if orientation0 is None else _orientation0(orientation0),
-            t0,
-            method,
-            None if dt is None else as_scalar("dt", dt),
-            as_integer("order", order),
-            rtol if type(rtol) is float else as_scalar("rtol", rtol),
-            None if atol is None else as_scalar("atol", atol),
-            None if torque is None else as_torque(torque),
-            orientation,
-            as_integer("max_steps", max_steps),
-            callback,
-            rotors,
+            orientation0=None if orientation0 is None else _orientation0(orientation0),
+            t0=t0,
+            method=method,
+            dt=None if dt is None else as_scalar("dt", dt),
+            order=as_integer("order", order),
+            rtol=rtol if type(rtol) is float else as_scalar("rtol", rtol),
+            atol=None if atol is None else as_scalar("atol", atol),
+            torque=None if torque is None else as_torque(torque),
+            orientation=orientation,
+            max_steps=as_integer("max_steps", max_steps),
+            progress=callback,
+            rotors=rotors,
         )
     finally:
         if bar is not None:

@@ -1,9 +1,13 @@
 //! The core's `Error` carried to Python as the typed exceptions of `polhode.errors`, with the
 //! argument at fault (`argument`) and, in a batch, the body (`body`) as attributes.
+//!
+//! One match arm per kind of core error; the classes are imported from `polhode.errors` once
+//! per process (a failed import is raised as it is, never replaced by another class).
 
-use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyType};
 
 /// The core's error, carried to Python.
 pub(crate) struct CoreError(pub polhode::Error);
@@ -14,69 +18,69 @@ impl From<polhode::Error> for CoreError {
     }
 }
 
-/// The class of `polhode.errors` for each kind of core error.
-fn class_name(error: &polhode::Error) -> &'static str {
-    use polhode::Error as E;
-    match error {
-        E::NonFinite { .. } | E::BlewUp { .. } => "NonFiniteError",
-        E::NonPositive { .. } => "NonPositiveError",
-        E::Shape { .. } => "ShapeError",
-        E::InvalidInertia { .. } => "InertiaError",
-        E::InvalidArgument { .. } => "ArgumentError",
-        E::NoConvergence { .. } => "ConvergenceError",
-        _ => "PolhodeError",
+/// A class of `polhode.errors`, imported once per process.
+struct Class {
+    cell: PyOnceLock<Py<PyType>>,
+    name: &'static str,
+}
+
+impl Class {
+    const fn new(name: &'static str) -> Self {
+        Self {
+            cell: PyOnceLock::new(),
+            name,
+        }
+    }
+
+    /// `class(message, argument=..., body=...)` as a Python exception.
+    fn raise(
+        &self,
+        py: Python<'_>,
+        message: String,
+        argument: Option<&str>,
+        body: Option<usize>,
+    ) -> PyErr {
+        let made = (|| -> PyResult<PyErr> {
+            let class = self.cell.import(py, "polhode.errors", self.name)?;
+            let kwargs = PyDict::new(py);
+            kwargs.set_item(pyo3::intern!(py, "argument"), argument)?;
+            kwargs.set_item(pyo3::intern!(py, "body"), body)?;
+            Ok(PyErr::from_value(class.call((message,), Some(&kwargs))?))
+        })();
+        made.unwrap_or_else(|error| error)
     }
 }
 
-fn raise(
-    py: Python<'_>,
-    class: &str,
-    message: String,
-    argument: Option<&str>,
-    body: Option<usize>,
-) -> PyErr {
-    let made = (|| -> PyResult<PyErr> {
-        let class = py.import("polhode.errors")?.getattr(class)?;
-        let kwargs = PyDict::new(py);
-        kwargs.set_item("argument", argument)?;
-        kwargs.set_item("body", body)?;
-        Ok(PyErr::from_value(
-            class.call((message.clone(),), Some(&kwargs))?,
-        ))
-    })();
-    made.unwrap_or_else(|_| PyValueError::new_err(message))
-}
+static POLHODE_ERROR: Class = Class::new("PolhodeError");
+static NON_FINITE_ERROR: Class = Class::new("NonFiniteError");
+static NON_POSITIVE_ERROR: Class = Class::new("NonPositiveError");
+static SHAPE_ERROR: Class = Class::new("ShapeError");
+static INERTIA_ERROR: Class = Class::new("InertiaError");
+static ARGUMENT_ERROR: Class = Class::new("ArgumentError");
+static CONVERGENCE_ERROR: Class = Class::new("ConvergenceError");
 
 impl From<CoreError> for PyErr {
     fn from(error: CoreError) -> PyErr {
+        use polhode::Error as E;
         let (body, inner) = match error.0 {
-            polhode::Error::Body { body, error } => (Some(body), *error),
+            E::Body { body, error } => (Some(body), *error),
             other => (None, other),
         };
-        match inner {
-            polhode::Error::Interrupted => return PyKeyboardInterrupt::new_err(inner.to_string()),
-            polhode::Error::OutOfMemory { .. } => return PyMemoryError::new_err(inner.to_string()),
-            _ => {}
-        }
-        Python::attach(|py| {
-            raise(
-                py,
-                class_name(&inner),
-                inner.to_string(),
-                inner.argument(),
-                body,
-            )
-        })
+        let class = match &inner {
+            E::Interrupted => return PyKeyboardInterrupt::new_err(inner.to_string()),
+            E::OutOfMemory { .. } => return PyMemoryError::new_err(inner.to_string()),
+            E::NonFinite { .. } | E::BlewUp { .. } => &NON_FINITE_ERROR,
+            E::NonPositive { .. } => &NON_POSITIVE_ERROR,
+            E::Shape { .. } => &SHAPE_ERROR,
+            E::InvalidInertia { .. } => &INERTIA_ERROR,
+            E::InvalidArgument { .. } => &ARGUMENT_ERROR,
+            E::NoConvergence { .. } => &CONVERGENCE_ERROR,
+            // `Body` is unwrapped above; a kind added to the core (the enum is
+            // non-exhaustive) is the base class until it has its own.
+            _ => &POLHODE_ERROR,
+        };
+        Python::attach(|py| class.raise(py, inner.to_string(), inner.argument(), body))
     }
-}
-
-/// An `ArgumentError` naming `name`, for what the binding itself parses (a method's name).
-pub(crate) fn argument_error(name: &str, reason: &str) -> PyErr {
-    CoreError(polhode::Error::InvalidArgument {
-        name: name.into(),
-        reason: reason.into(),
-    })
-    .into()
 }
 
 /// `Result` whose error converts to a Python exception.

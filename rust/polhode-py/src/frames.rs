@@ -4,8 +4,8 @@ use numpy::ndarray::Array;
 use numpy::{
     Element, IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
-use polhode::dynamics::Monitor;
 use polhode::mass::Position;
+use polhode::Monitor;
 use pyo3::prelude::*;
 
 use crate::convert::bad_shape;

@@ -39,6 +39,7 @@ mod _core {
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add("SOLIDS", crate::mass::solids(m.py())?)?;
-        m.add("METHODS", crate::motion::methods(m.py())?)
+        m.add("METHODS", crate::motion::methods(m.py())?)?;
+        m.add("QUANTITIES", crate::motion::quantities(m.py())?)
     }
 }

@@ -5,9 +5,9 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1,
     PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
-use polhode::dynamics::Monitor;
 use polhode::mass::SOLIDS;
 use polhode::MassProperties;
+use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -76,41 +76,6 @@ pub fn merge_vertices<'py>(
     let f = Array::from_shape_vec((rows.1, 3), renumbered.into_flattened())
         .unwrap_or_else(|_| unreachable!("3 numbers per row"));
     Ok((v.into_pyarray(py), f.into_pyarray(py)))
-}
-
-/// A number as Python's `repr` would show it, roughly (never the hundreds of digits of `{}` for
-/// 1e300).
-fn number(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-4..1e16).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-/// The error for a result (of a query with argument `name`) beyond the range of double
-/// precision.
-fn overflow(name: &str, what: &str) -> PyErr {
-    CoreError(polhode::Error::InvalidArgument {
-        name: name.into(),
-        reason: format!(
-            "the {what} overflows double precision (beyond the largest double, {:e}).",
-            f64::MAX
-        ),
-    })
-    .into()
-}
-
-fn finite_matrix(
-    name: &str,
-    what: &str,
-    m: nalgebra::Matrix3<f64>,
-) -> PyResult<nalgebra::Matrix3<f64>> {
-    if m.iter().all(|x| x.is_finite()) {
-        Ok(m)
-    } else {
-        Err(overflow(name, what))
-    }
 }
 
 /// Principal moments (3,), axes (3, 3) and multiplicities (3,) as numpy arrays.
@@ -280,32 +245,19 @@ impl PyMassProperties {
         axes: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let point = vector3("point", &point)?;
-        for k in 0..3 {
-            if !point[k].is_finite() {
-                return Err(CoreError(polhode::Error::NonFinite {
-                    name: format!("point[{k}]"),
-                    value: point[k],
-                })
-                .into());
-            }
-        }
         let tensor = match axes {
             None => self.0.inertia_about(&point),
-            Some(axes) => {
-                let axes = matrix3("axes", &axes)?;
-                check_rotation("axes", &axes)?;
-                self.0.inertia_about_in(&point, &axes)
-            }
-        };
-        let tensor = finite_matrix("point", "inertia tensor about `point`", tensor)?;
+            Some(axes) => self.0.inertia_about_in(&point, &matrix3("axes", &axes)?),
+        }
+        .map_err(CoreError)?;
         Ok(matrix_to_py(py, &tensor))
     }
 
     /// Returns (moments (3,), axes (3, 3), multiplicity (3,)).
     #[pyo3(signature = (rtol=None))]
     fn principal<'py>(&self, py: Python<'py>, rtol: Option<f64>) -> PyResult<PrincipalArrays<'py>> {
-        let rtol = checked_rtol(rtol)?;
-        let p = self.0.principal_with(rtol);
+        let rtol = rtol.unwrap_or(polhode::eigen::DEFAULT_RTOL);
+        let p = self.0.principal_with(rtol).map_err(CoreError)?;
         let multiplicity = Array::from_iter(p.multiplicity.iter().map(|&k| i64::from(k)));
         Ok((
             vector_to_py(py, &p.moments),
@@ -335,21 +287,18 @@ impl PyMassProperties {
         py: Python<'py>,
         omega: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let omega = finite_vector("omega", &omega)?;
-        let l = self.0.angular_momentum_body(&omega);
-        if !l.iter().all(|x| x.is_finite()) {
-            return Err(overflow("omega", "angular momentum"));
-        }
+        let l = self
+            .0
+            .angular_momentum_body(&vector3("omega", &omega)?)
+            .map_err(CoreError)?;
         Ok(vector_to_py(py, &l))
     }
 
     fn kinetic_energy(&self, omega: PyReadonlyArray1<'_, f64>) -> PyResult<f64> {
-        let omega = finite_vector("omega", &omega)?;
-        let energy = self.0.kinetic_energy(&omega);
-        if !energy.is_finite() {
-            return Err(overflow("omega", "kinetic energy"));
-        }
-        Ok(energy)
+        Ok(self
+            .0
+            .kinetic_energy(&vector3("omega", &omega)?)
+            .map_err(CoreError)?)
     }
 
     /// The stored numbers, as Python floats: `(mass, center_of_mass, center_of_mass_low,
@@ -402,36 +351,6 @@ type Triple = (f64, f64, f64);
 /// What `MassProperties.parts()` returns.
 type StoredParts = (f64, Triple, Triple, f64, (Triple, Triple, Triple));
 
-fn finite_vector(name: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<nalgebra::Vector3<f64>> {
-    let v = vector3(name, a)?;
-    for k in 0..3 {
-        if !v[k].is_finite() {
-            return Err(CoreError(polhode::Error::NonFinite {
-                name: format!("{name}[{k}]"),
-                value: v[k],
-            })
-            .into());
-        }
-    }
-    Ok(v)
-}
-
-fn check_rotation(name: &str, m: &nalgebra::Matrix3<f64>) -> PyResult<()> {
-    polhode::mass::check_rotation(name, m).map_err(|e| CoreError(e).into())
-}
-
-fn checked_rtol(rtol: Option<f64>) -> PyResult<f64> {
-    let rtol = rtol.unwrap_or(polhode::eigen::DEFAULT_RTOL);
-    if !(rtol.is_finite() && rtol >= 0.0) {
-        return Err(CoreError(polhode::Error::InvalidArgument {
-            name: "rtol".into(),
-            reason: format!("expected a finite number >= 0, got {}.", number(rtol)),
-        })
-        .into());
-    }
-    Ok(rtol)
-}
-
 /// Principal moments, axes and multiplicities of a tensor (3, 3) or a batch (N, 3, 3), in
 /// parallel with the GIL released.
 #[pyfunction]
@@ -447,7 +366,7 @@ pub fn principal<'py>(
     Bound<'py, PyArrayDyn<f64>>,
     Bound<'py, PyArrayDyn<i64>>,
 )> {
-    let rtol = checked_rtol(rtol)?;
+    let rtol = rtol.unwrap_or(polhode::eigen::DEFAULT_RTOL);
     let shape = inertia.shape().to_vec();
     let single = shape == [3, 3];
     if !(single || (shape.len() == 3 && shape[1] == 3 && shape[2] == 3)) {

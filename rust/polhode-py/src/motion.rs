@@ -10,19 +10,22 @@ use std::sync::{Arc, Mutex};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use polhode::dynamics::{Method, MethodSettings, Monitor, METHODS};
+use polhode::dynamics::{Method, MethodSettings, METHODS};
 use polhode::exact::{FreeRotation, Regime};
+use polhode::settings::count;
 use polhode::simulation::{
-    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Outputs, Quantity,
-    Simulation,
+    orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Dim, Outputs,
+    Quantity, Simulation,
 };
+use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString};
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 
 use crate::convert::bad_shape;
-use crate::errors::{argument_error, CoreError};
+use crate::errors::CoreError;
 use crate::mass::PyMassProperties;
 use crate::rotors::rotor_spec;
 use crate::torque::{calls_python, torque_spec, Raised};
@@ -161,7 +164,7 @@ fn orientations(
 /// work to another thread. A batch runs on the rayon pool (see [`run_on_pool`]).
 #[pyfunction]
 #[pyo3(signature = (
-    body, omega0, t, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
+    body, omega0, t, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
     rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None,
     rotors=None
 ))]
@@ -216,12 +219,7 @@ pub fn simulate<'py>(
         rotors: !rotors.is_empty(),
     };
     let method = Method::from_name(method, &settings).map_err(CoreError)?;
-    if max_steps < 1 {
-        return Err(argument_error(
-            "max_steps",
-            &format!("expected at least 1, got {max_steps}."),
-        ));
-    }
+    let max_steps = count("max_steps", max_steps).map_err(CoreError)?;
     if let Some(progress) = progress.as_ref().filter(|p| !p.is_callable()) {
         return Err(PyTypeError::new_err(format!(
             "Expected `progress` to be a callable taking the fraction done, or None, got {}.",
@@ -239,7 +237,7 @@ pub fn simulate<'py>(
         method,
         t0,
         with_orientation: orientation,
-        max_steps: max_steps as u64,
+        max_steps,
         torque: spec,
         parallel: !inline,
         rotors,
@@ -282,11 +280,9 @@ pub fn simulate<'py>(
     to_dict(py, outputs, n.is_none(), run.method.name(), t.as_any())
 }
 
-/// Checks one body, its initial angular velocity and its rotors as `simulate` checks them (the
-/// body's shape and moments, a finite `omega0` of shape (3,) and a finite energy, the rotors
-/// inside the body), with the same errors, and computes nothing else: the core runs them
-/// through a zero-step rk4 run of the body at its initial time, and nothing is converted back.
-/// What `polhode.analyze` checks before its closed form, at a fraction of a `simulate` call.
+/// Checks one body, its initial angular velocity and its rotors as `simulate` checks them, with
+/// the same errors, and computes nothing else (`polhode::simulation::check_motion`): what
+/// `polhode.analyze` checks before its closed form.
 #[pyfunction]
 #[pyo3(signature = (body, omega0, *, rotors=None))]
 pub fn check_motion(
@@ -305,47 +301,23 @@ pub fn check_motion(
         .iter()
         .map(|r| rotor_spec(r, &raised))
         .collect::<PyResult<Vec<_>>>()?;
-    let settings = MethodSettings {
-        dt: Some(1.0),
-        order: 4,
-        rtol: 1e-10,
-        atol: None,
-        torque: false,
-        rotors: !rotors.is_empty(),
-    };
-    let run = Simulation {
-        method: Method::from_name("rk4", &settings).map_err(CoreError)?,
-        t0: 0.0,
-        with_orientation: false,
-        max_steps: 1,
-        torque: None,
-        parallel: false,
-        rotors,
-    };
-    polhode::simulation::simulate(
-        &run,
-        &bodies,
-        &rows3(&omega_data),
-        &[UnitQuaternion::identity()],
-        &[0.0],
-        None,
-    )
-    .map_err(CoreError)?;
+    let omega0 = Vector3::from_column_slice(&omega_data);
+    polhode::simulation::check_motion(&bodies[0], &omega0, &rotors).map_err(CoreError)?;
     Ok(())
 }
 
-/// A quantity's name as a Python string made once per process (`intern!`): a small call
-/// then neither builds nor hashes its keys anew, nor does the Python layer reading them.
-fn quantity_key<'py>(py: Python<'py>, quantity: Quantity) -> Bound<'py, PyString> {
-    match quantity {
-        Quantity::Omega => intern!(py, "omega"),
-        Quantity::Quaternion => intern!(py, "quaternion"),
-        Quantity::AngularMomentumSpace => intern!(py, "angular_momentum_space"),
-        Quantity::AngularMomentumBody => intern!(py, "angular_momentum_body"),
-        Quantity::Energy => intern!(py, "energy"),
-        Quantity::RotorRates => intern!(py, "rotor_rates"),
-    }
-    .clone()
+/// The quantities' names as Python strings, made once per process (in the order of
+/// `Quantity::ALL`): a small call then neither builds nor hashes its keys anew, nor does the
+/// Python layer reading them.
+static QUANTITY_KEYS: PyOnceLock<Vec<Py<PyString>>> = PyOnceLock::new();
+
+fn quantity_keys(py: Python<'_>) -> &Vec<Py<PyString>> {
+    QUANTITY_KEYS.get_or_init(py, || {
+        Quantity::ALL
+            .iter()
+            .map(|q| PyString::intern(py, q.name()).unbind())
+            .collect()
+    })
 }
 
 /// The fields of a `Trajectory` by name, in their order (what `polhode.simulate` sets in one
@@ -383,14 +355,14 @@ fn to_dict<'py>(
     };
     // The columns come in the order of Quantity::ALL, the fields' order.
     let mut columns = outputs.columns.into_iter().peekable();
-    for quantity in Quantity::ALL {
-        match columns.next_if(|(q, _)| *q == quantity) {
+    for (quantity, key) in Quantity::ALL.iter().zip(quantity_keys(py)) {
+        match columns.next_if(|(q, _)| q == quantity) {
             Some((_, data)) => {
                 let mut shape = vec![m];
                 shape.extend(quantity.shape(outputs.rotors));
-                dict.set_item(quantity_key(py, quantity), array(shape, data)?)?;
+                dict.set_item(key.bind(py), array(shape, data)?)?;
             }
-            None => dict.set_item(quantity_key(py, quantity), py.None())?,
+            None => dict.set_item(key.bind(py), py.None())?,
         }
     }
     if columns.next().is_some() {
@@ -470,4 +442,42 @@ pub fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         table.set_item(name, stepping.name())?;
     }
     Ok(table)
+}
+
+/// The output quantities, in the order of the `Trajectory`'s fields: a tuple of dicts with
+/// `name`, `shape` (per output time; `"rotors"` for the number of rotors), `unit` (SI),
+/// `frame` (`"body"`, `"space"` or `"none"`), `description` and `requires` (`"orientation"`,
+/// `"rotors"`: what the run needs to report it). What `polhode` reads to know its outputs.
+pub fn quantities(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
+    let rows = Quantity::ALL
+        .iter()
+        .map(|q| -> PyResult<Bound<'_, PyDict>> {
+            let row = PyDict::new(py);
+            row.set_item("name", q.name())?;
+            let shape: Vec<Bound<'_, PyAny>> = q
+                .dims()
+                .iter()
+                .map(|d| match d {
+                    Dim::Fixed(n) => n
+                        .into_pyobject(py)
+                        .map_or_else(|e| match e {}, Bound::into_any),
+                    Dim::Rotors => PyString::new(py, "rotors").into_any(),
+                })
+                .collect();
+            row.set_item("shape", PyTuple::new(py, shape)?)?;
+            row.set_item("unit", q.unit())?;
+            row.set_item("frame", q.frame().name())?;
+            row.set_item("description", q.description())?;
+            let mut requires = Vec::new();
+            if q.needs_orientation() {
+                requires.push("orientation");
+            }
+            if q.needs_rotors() {
+                requires.push("rotors");
+            }
+            row.set_item("requires", PyTuple::new(py, requires)?)?;
+            Ok(row)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    PyTuple::new(py, rows)
 }

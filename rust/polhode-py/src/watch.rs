@@ -17,7 +17,7 @@ use std::sync::Mutex;
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
-use polhode::dynamics::Monitor;
+use polhode::Monitor;
 use pyo3::prelude::*;
 
 pyo3::import_exception!(polhode.errors, CancelledError);

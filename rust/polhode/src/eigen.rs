@@ -17,8 +17,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
-use crate::dynamics::Monitor;
 use crate::error::{Error, Result};
+use crate::Monitor;
 
 /// Default relative tolerance under which two principal moments count as equal.
 ///
@@ -62,14 +62,15 @@ pub fn symmetric_eigen3(tensor: &Matrix3<f64>) -> Result<Principal> {
     symmetric_eigen3_with(tensor, DEFAULT_RTOL, "inertia")
 }
 
-/// [`symmetric_eigen3`] with an explicit relative tolerance for equal moments; `name` is the
-/// argument named in errors.
+/// [`symmetric_eigen3`] with an explicit relative tolerance for equal moments (finite and
+/// `>= 0`: an error naming `rtol` otherwise); `name` is the argument named in errors.
 ///
 /// Any finite symmetric tensor is accepted, from subnormal to the largest doubles: the tensor is
 /// scaled by a power of two before the solve and the moments scaled back (exactly, unless they
 /// are subnormal). Moments beyond the range of double precision (a tensor near `f64::MAX` whose
 /// largest eigenvalue exceeds it) are an [`Error::InvalidArgument`] naming `name`.
 pub fn symmetric_eigen3_with(tensor: &Matrix3<f64>, rtol: f64, name: &str) -> Result<Principal> {
+    crate::settings::Setting::MergeTolerance.check("rtol", rtol)?;
     let a = checked_symmetric(tensor, name)?;
     eigen_symmetric_unchecked(&a, rtol, name)
 }
@@ -761,6 +762,7 @@ pub fn principal_batch_monitored(
     multiplicity: &mut [i64],
     monitor: Option<&Monitor>,
 ) -> Result<()> {
+    crate::settings::Setting::MergeTolerance.check("rtol", rtol)?;
     let n = tensors.len() / 9;
     if tensors.len() != 9 * n
         || moments.len() != 3 * n

@@ -76,7 +76,7 @@ pub enum Error {
         /// Its value.
         value: f64,
     },
-    /// The run was cancelled through its [`crate::dynamics::Monitor`].
+    /// The run was cancelled through its [`crate::Monitor`].
     #[error("The integration was interrupted (its monitor was cancelled).")]
     Interrupted,
     /// The outputs do not fit in memory.

@@ -10,7 +10,7 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 
-use crate::dynamics::Monitor;
+use crate::Monitor;
 use crate::{Principal, Result};
 
 /// Frames between two looks at the monitor.

@@ -25,8 +25,13 @@ pub(crate) fn dispatch<R>(kernel: impl FnOnce() -> R) -> R {
     kernel()
 }
 
+/// `kernel` compiled with AVX2.
+///
+/// # Safety
+/// The CPU supports AVX and AVX2 (the caller checks it: [`dispatch`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2")]
+// SAFETY: a contract, not an operation: callable only where the CPU has these features.
 unsafe fn avx2<R>(kernel: impl FnOnce() -> R) -> R {
     kernel()
 }
@@ -49,8 +54,13 @@ pub(crate) fn dispatch_wide<R>(kernel: impl FnOnce() -> R) -> R {
     dispatch(kernel)
 }
 
+/// `kernel` compiled with AVX-512 (F, VL, DQ).
+///
+/// # Safety
+/// The CPU supports these features (the caller checks it: [`dispatch_wide`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2,avx512f,avx512vl,avx512dq")]
+// SAFETY: a contract, not an operation: callable only where the CPU has these features.
 unsafe fn avx512<R>(kernel: impl FnOnce() -> R) -> R {
     kernel()
 }

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use polhode::dynamics::*;
-use polhode::Error;
+use polhode::{Error, Monitor};
 
 /// Steps of the long conservation runs.
 const LONG: usize = if cfg!(debug_assertions) {

@@ -2,8 +2,8 @@
 //! threads, and stopped by a cancelled monitor.
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use polhode::dynamics::Monitor;
 use polhode::eigen::{principal_batch, principal_batch_monitored};
+use polhode::Monitor;
 use polhode::{symmetric_eigen3, Error, MassProperties};
 
 const EPS: f64 = f64::EPSILON;

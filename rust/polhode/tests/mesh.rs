@@ -462,8 +462,8 @@ fn a_cancel_stops_a_mesh_at_any_look_and_watching_changes_no_bit() {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Arc;
 
-    use polhode::dynamics::Monitor;
     use polhode::mass::MESH_CHUNK;
+    use polhode::Monitor;
 
     // 81920 faces: two blocks of the closedness check, twenty chunks of the integrals.
     let (v, f) = icosphere(6, 1.0);

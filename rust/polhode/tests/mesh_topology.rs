@@ -3,7 +3,7 @@
 //! real gaps (kept), and what the error says about an opening.
 
 use nalgebra::Matrix3;
-use polhode::dynamics::Monitor;
+use polhode::Monitor;
 use polhode::mass::{merge_vertices, weld_tolerance, MESH_CHUNK, WELD_EXPONENT};
 use polhode::{Error, MassProperties};
 

@@ -9,10 +9,10 @@
 
 use nalgebra::{SVector, Vector3};
 
+use super::method::Stats;
 use super::state::{Moments, State};
 use super::system::{pack, unit_state, Field, NoTorque, System};
 use super::torque::{require_orientation_free, Segment, Torque};
-use super::Stats;
 use crate::{Error, Result, Short};
 
 /// Per-component tolerances, `sc_i = atol_i + rtol_i max(|y_i|, |y'_i|)`.

@@ -1,260 +1,25 @@
-//! Integration over a list of output times, for one body or a batch of bodies: the methods,
-//! their settings and results, and the loops that run them.
+//! A rigid body's runs over a list of output times: the one place that maps a [`Method`] to its
+//! stepper or loop ([`super::loops`]), the torque-free runs in units of a power of two, the
+//! closed form at each output time, and the driver [`integrate`].
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
-use super::dop853::{self, Settings, Tolerance};
+use super::dop853::Tolerance;
+use super::loops::{
+    breaks, check_omega_output, dop853_segments, fixed_loop, segment_ends, unit_output,
+    ScaledSystem,
+};
+use super::method::{check_method, check_times, Dop853Options, Method, Options, Stats};
 use super::midpoint::Midpoint;
-use super::monitor::{Monitor, Progress};
 use super::rk4::Rk4;
-use super::splitting::{Splitting, SplittingOrder};
+use super::splitting::Splitting;
 use super::state::{Moments, State};
-use super::stepper::{Stepper, Vars};
+use super::stepper::{BodyStepper, Stepper, Vars};
 use super::system::{pack, Field, Load, NoTorque, System};
-use super::torque::{norm_of_any_size, Segment, Torque};
-use crate::error::{finite, positive, Short};
+use super::torque::{norm_of_any_size, Segment};
 use crate::exact::FreeRotation;
+use crate::monitor::Progress;
 use crate::{Error, Result};
-
-/// An integration method and its parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Method {
-    /// Lie-Poisson splitting (see [`super::splitting`]) with fixed step `dt`.
-    Splitting {
-        /// Largest step.
-        dt: f64,
-        /// Order of the composition.
-        order: SplittingOrder,
-    },
-    /// Implicit midpoint rule (see [`super::midpoint`]) with fixed step `dt`.
-    Midpoint {
-        /// Largest step.
-        dt: f64,
-    },
-    /// Classic RK4 (see [`super::rk4`]) with fixed step `dt`.
-    Rk4 {
-        /// Largest step.
-        dt: f64,
-    },
-    /// Adaptive Dormand-Prince 8(5,3) (see [`super::dop853`]).
-    Dop853(Dop853Options),
-    /// The exact solution of the torque-free body ([`FreeRotation`]) evaluated at each output
-    /// time: no steps, torque-free only.
-    Exact,
-}
-
-/// How a method steps: what choosing it by name needs ([`Method::from_name`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stepping {
-    /// The exact solution without a torque, `dop853` with one.
-    Auto,
-    /// A closed form: no step.
-    Exact,
-    /// A fixed step `dt`.
-    Fixed,
-    /// Adaptive, to `rtol` and `atol`.
-    Adaptive,
-}
-
-impl Stepping {
-    /// Its name, as [`METHODS`] lists it for a user (`"fixed"`, ...).
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Stepping::Auto => "auto",
-            Stepping::Exact => "exact",
-            Stepping::Fixed => "fixed",
-            Stepping::Adaptive => "adaptive",
-        }
-    }
-}
-
-/// Every method by the name a user gives it, and how it steps. Adding a method is its module
-/// (a `Stepper`), a variant of [`Method`] with its arm in the driver, and its row here and in
-/// [`Method::from_name`] and [`Method::name`].
-pub const METHODS: &[(&str, Stepping)] = &[
-    ("auto", Stepping::Auto),
-    ("exact", Stepping::Exact),
-    ("splitting", Stepping::Fixed),
-    ("midpoint", Stepping::Fixed),
-    ("rk4", Stepping::Fixed),
-    ("dop853", Stepping::Adaptive),
-];
-
-/// What a method chosen by name may take: the step of a fixed-step method, the splitting's
-/// order, the adaptive method's tolerances, and whether a torque or rotors are applied
-/// (`"auto"` then picks `dop853`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MethodSettings {
-    /// Largest step of a fixed-step method (required by them).
-    pub dt: Option<f64>,
-    /// Order of the splitting: 2, 4 or 6.
-    pub order: i64,
-    /// Relative tolerance of `dop853`.
-    pub rtol: f64,
-    /// Absolute tolerance of `dop853` (see [`Dop853Options::atol`]).
-    pub atol: Option<f64>,
-    /// Whether a torque is applied.
-    pub torque: bool,
-    /// Whether the body has rotors (`"auto"` then picks `dop853` too).
-    pub rotors: bool,
-}
-
-impl Default for MethodSettings {
-    fn default() -> Self {
-        Self {
-            dt: None,
-            order: 4,
-            rtol: Dop853Options::default().rtol,
-            atol: None,
-            torque: false,
-            rotors: false,
-        }
-    }
-}
-
-impl Method {
-    /// The method a user names (a row of [`METHODS`]) with its settings; the values themselves
-    /// are checked when it runs. Errors name `method`, `dt` (a fixed-step method without one)
-    /// or `order`.
-    pub fn from_name(name: &str, settings: &MethodSettings) -> Result<Self> {
-        let dt = || {
-            settings.dt.ok_or_else(|| Error::InvalidArgument {
-                name: "dt".into(),
-                reason: format!("expected `dt` (the largest step) for method {name:?}, got None."),
-            })
-        };
-        let dop853 = Method::Dop853(Dop853Options {
-            rtol: settings.rtol,
-            atol: settings.atol,
-            ..Dop853Options::default()
-        });
-        Ok(match name {
-            "auto" if settings.torque || settings.rotors => dop853,
-            "auto" | "exact" => Method::Exact,
-            "splitting" => Method::Splitting {
-                dt: dt()?,
-                order: match settings.order {
-                    2 => SplittingOrder::Two,
-                    4 => SplittingOrder::Four,
-                    6 => SplittingOrder::Six,
-                    other => {
-                        return Err(Error::InvalidArgument {
-                            name: "order".into(),
-                            reason: format!(
-                                "expected 2, 4 or 6 for method \"splitting\", got {other}."
-                            ),
-                        })
-                    }
-                },
-            },
-            "midpoint" => Method::Midpoint { dt: dt()? },
-            "rk4" => Method::Rk4 { dt: dt()? },
-            "dop853" => dop853,
-            other => {
-                let names: Vec<String> = METHODS.iter().map(|(n, _)| format!("{n:?}")).collect();
-                return Err(Error::InvalidArgument {
-                    name: "method".into(),
-                    reason: format!("expected one of {}, got {other:?}.", names.join(", ")),
-                });
-            }
-        })
-    }
-
-    /// The method's name, a row of [`METHODS`].
-    #[must_use]
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::Exact => "exact",
-            Method::Splitting { .. } => "splitting",
-            Method::Midpoint { .. } => "midpoint",
-            Method::Rk4 { .. } => "rk4",
-            Method::Dop853(_) => "dop853",
-        }
-    }
-}
-
-/// Settings of the adaptive [`Method::Dop853`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dop853Options {
-    /// Relative tolerance, `>= 1e-15` (default `1e-10`).
-    pub rtol: f64,
-    /// Absolute tolerance on the angular velocity, in its units (default `rtol |omega0|`, or
-    /// for a body starting at rest `rtol |omega'(t0)| (t_end - t0)`). The quaternion
-    /// components (dimensionless, `|q| = 1`) use `rtol` as absolute tolerance.
-    pub atol: Option<f64>,
-    /// First step (default: Hairer's estimate).
-    pub first_step: Option<f64>,
-    /// Largest step (default: the whole span). Steps always end at the torque's
-    /// [`Torque::discontinuities`].
-    pub max_step: Option<f64>,
-}
-
-impl Default for Dop853Options {
-    fn default() -> Self {
-        Self {
-            rtol: 1e-10,
-            atol: None,
-            first_step: None,
-            max_step: None,
-        }
-    }
-}
-
-impl Dop853Options {
-    /// The defaults with relative tolerance `rtol`.
-    #[must_use]
-    pub fn with_rtol(rtol: f64) -> Self {
-        Self {
-            rtol,
-            ..Self::default()
-        }
-    }
-}
-
-/// Settings common to all methods.
-#[derive(Clone, Copy)]
-pub struct Options<'a> {
-    /// Initial time: the state given is at `t0`; every output time is `>= t0` (default 0).
-    pub t0: f64,
-    /// Whether to integrate and return the orientation (default `true`). When `false` only the
-    /// angular velocity is integrated (cheaper), unless the torque depends on the orientation, in
-    /// which case the orientation is integrated but not returned.
-    pub with_orientation: bool,
-    /// External torque in body axes (default none).
-    pub torque: Option<&'a dyn Torque>,
-    /// Largest number of steps (accepted and rejected), an error if exceeded (default `1e8`).
-    pub max_steps: u64,
-    /// Progress record and cancel flag, looked at every [`Monitor::CHECK_EVERY`] steps (every
-    /// 256 output times for [`Method::Exact`]; default none).
-    pub monitor: Option<&'a Monitor>,
-}
-
-impl Default for Options<'_> {
-    fn default() -> Self {
-        Self {
-            t0: 0.0,
-            with_orientation: true,
-            torque: None,
-            max_steps: 100_000_000,
-            monitor: None,
-        }
-    }
-}
-
-/// The cost of an integration.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Stats {
-    /// Steps taken (accepted steps for `Dop853`, none for `Exact`).
-    pub steps: u64,
-    /// Steps rejected by the error control (`Dop853` only).
-    pub rejected_steps: u64,
-    /// Evaluations of the vector field (for the splitting: of the torque only, the free
-    /// sub-flows being exact; for the midpoint rule: its fixed-point and Newton iterations
-    /// and torque evaluations; for `Exact`: evaluations of the closed form, one per output
-    /// time).
-    pub rhs_evaluations: u64,
-}
 
 /// The states at the output times.
 #[derive(Clone, Debug, PartialEq)]
@@ -267,332 +32,73 @@ pub struct Trajectory {
     pub stats: Stats,
 }
 
-/// Number of equal substeps covering `[t_prev, t]`, none longer than `dt` by more than the
-/// round-off of the times (at most 1e-12 relative): an interval that is a whole number of `dt`
-/// up to that round-off is not given an extra step.
-pub(crate) fn substeps(t_prev: f64, t: f64, dt: f64) -> f64 {
-    let interval = t - t_prev;
-    if interval <= 0.0 {
-        return 0.0;
-    }
-    let slack = (4.0 * f64::EPSILON * (1.0 + t.abs().max(t_prev.abs()) / interval)).min(1e-12);
-    ((interval / dt) * (1.0 - slack)).ceil().max(1.0)
-}
+/// Where a rigid body's run sends its outputs: `sink(k, omega, q)` at each output time
+/// `times[k]`, in order, `omega` (body axes) finite and `q` (with the orientation) a finite unit
+/// quaternion. An error from it stops the run with that error.
+pub(crate) type Sink<'a> =
+    dyn FnMut(usize, &Vector3<f64>, Option<&UnitQuaternion<f64>>) -> Result<()> + 'a;
 
-pub(crate) fn check_times(times: &[f64], t0: f64) -> Result<()> {
-    finite("t0", t0)?;
-    let mut prev = t0;
-    for (k, &t) in times.iter().enumerate() {
-        if !t.is_finite() {
-            finite(&format!("t[{k}]"), t)?;
-        }
-        if t < prev {
-            return Err(Error::InvalidArgument {
-                name: "t".into(),
-                reason: if k == 0 {
-                    format!("expected t[0] >= t0 = {}, got {}.", Short(t0), Short(t))
-                } else {
-                    format!(
-                        "expected non-decreasing t, got t[{}] = {} > t[{k}] = {}.",
-                        k - 1,
-                        Short(prev),
-                        Short(t)
-                    )
-                },
-            });
-        }
-        prev = t;
-    }
-    Ok(())
-}
-
-pub(crate) fn check_method(method: &Method, options: &Options) -> Result<()> {
-    match method {
-        Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
-            positive("dt", *dt)?;
-        }
-        Method::Dop853(o) => {
-            positive("rtol", o.rtol)?;
-            if o.rtol < 1e-15 {
-                return Err(Error::InvalidArgument {
-                    name: "rtol".into(),
-                    reason: format!(
-                        "expected rtol >= 1e-15 (double precision), got {}.",
-                        Short(o.rtol)
-                    ),
-                });
-            }
-            if let Some(a) = o.atol {
-                positive("atol", a)?;
-            }
-            if let Some(h) = o.first_step {
-                positive("first_step", h)?;
-            }
-            if let Some(h) = o.max_step {
-                positive("max_step", h)?;
-            }
-        }
-        Method::Exact => {
-            if options.torque.is_some() {
-                return Err(Error::InvalidArgument {
-                    name: "torque".into(),
-                    reason: "the exact solution is torque-free; use dop853 or another integrator."
-                        .into(),
-                });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Collects the outputs, checking that they are finite.
-struct Collector {
-    omega: Vec<Vector3<f64>>,
-    orientation: Option<Vec<UnitQuaternion<f64>>>,
+/// A run's outputs on their way to its [`Sink`]: the angular velocity checked finite, the raw
+/// quaternion normalised and checked (only if the orientation is returned).
+struct Checked<'s, 'a> {
+    sink: &'s mut Sink<'a>,
+    times: &'s [f64],
+    with_orientation: bool,
     /// The argument an error names when the solution blows up: `dt` for the fixed-step
     /// methods (a step too long for the motion), `t` for the others (a motion that leaves
     /// double precision before the times asked for).
     fixed_step: bool,
 }
 
-impl Collector {
-    fn new(n: usize, with_orientation: bool, fixed_step: bool) -> Self {
-        Self {
-            omega: Vec::with_capacity(n),
-            orientation: with_orientation.then(|| Vec::with_capacity(n)),
-            fixed_step,
-        }
-    }
-
-    /// The output at `t`: `w`, and the raw quaternion `q` normalised (kept only if the
-    /// orientation is returned).
+impl Checked<'_, '_> {
+    /// The output at `times[k]`: `w`, and the raw quaternion `q` normalised.
     #[inline]
-    fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&Vector4<f64>>) -> Result<()> {
-        self.push_omega(t, w)?;
-        if let (Some(att), Some(q)) = (self.orientation.as_mut(), q) {
-            att.push(unit_output(self.fixed_step, t, q)?);
-        }
-        Ok(())
-    }
-
-    #[inline]
-    fn push_omega(&mut self, t: f64, w: &Vector3<f64>) -> Result<()> {
+    fn push(&mut self, k: usize, w: &Vector3<f64>, q: Option<&Vector4<f64>>) -> Result<()> {
+        let t = self.times[k];
         check_omega_output(self.fixed_step, t, w)?;
-        self.omega.push(*w);
-        Ok(())
-    }
-}
-
-/// The error of an output `what` that is not finite at `t`. It names `dt` for the fixed-step
-/// methods (a step too long for the motion), `t` for the others (a motion that leaves double
-/// precision before the times asked for).
-#[cold]
-fn blew_up(fixed_step: bool, what: String, t: f64, value: f64) -> Error {
-    let (name, hint) = if fixed_step {
-        (
-            "dt",
-            "reduce dt (a step too long for the rotation rate or the torque).",
-        )
-    } else {
-        (
-            "t",
-            "the motion leaves double precision before the times asked for.",
-        )
-    };
-    Error::BlewUp {
-        name: name.into(),
-        what,
-        hint: hint.into(),
-        t,
-        value,
-    }
-}
-
-/// Checks that the angular velocity output at `t` is finite.
-#[inline]
-pub(crate) fn check_omega_output(fixed_step: bool, t: f64, w: &Vector3<f64>) -> Result<()> {
-    for i in 0..3 {
-        if !w[i].is_finite() {
-            return Err(blew_up(fixed_step, format!("omega[{i}]"), t, w[i]));
+        match q {
+            Some(q) if self.with_orientation => {
+                (self.sink)(k, w, Some(&unit_output(self.fixed_step, t, q)?))
+            }
+            _ => (self.sink)(k, w, None),
         }
     }
-    Ok(())
-}
 
-/// The orientation output at `t` from the raw quaternion `q`: `q / |q|`, checked finite.
-#[inline]
-pub(crate) fn unit_output(
-    fixed_step: bool,
-    t: f64,
-    q: &Vector4<f64>,
-) -> Result<UnitQuaternion<f64>> {
-    checked_unit(fixed_step, t, q / q.norm())
-}
-
-/// The orientation output at `t` from `unit = q / |q|` (computed by the caller as
-/// [`unit_output`] does), checked finite.
-#[inline]
-pub(crate) fn checked_unit(
-    fixed_step: bool,
-    t: f64,
-    unit: Vector4<f64>,
-) -> Result<UnitQuaternion<f64>> {
-    if !unit.iter().all(|c| c.is_finite()) {
-        // The orientation can blow up while omega stays finite (a step far too large for the
-        // rotation rate): an error, not NaN quaternions beside finite omega.
-        let value = unit
-            .iter()
-            .copied()
-            .find(|c| !c.is_finite())
-            .unwrap_or(f64::NAN);
-        return Err(blew_up(
-            fixed_step,
-            "the orientation (its quaternion)".into(),
-            t,
-            value,
-        ));
-    }
-    Ok(UnitQuaternion::new_unchecked(Quaternion::from(unit)))
-}
-
-/// Calls `f(end, output)` for each segment of `[t0, times[-1]]`, ending at every output time
-/// (`output = Some(k)`) and every break strictly between (`None`).
-pub(crate) fn segments(
-    t0: f64,
-    times: &[f64],
-    breaks: &[f64],
-    mut f: impl FnMut(f64, Option<usize>) -> Result<()>,
-) -> Result<()> {
-    let mut b = breaks.iter().copied().filter(|&x| x > t0).peekable();
-    for (k, &t) in times.iter().enumerate() {
-        while let Some(x) = b.next_if(|&x| x < t) {
-            f(x, None)?;
+    /// The output of a first-order system's state: `(w)` or `(w, q)`, the angular velocity in
+    /// units of `scale`.
+    #[inline]
+    fn push_state<const N: usize>(
+        &mut self,
+        k: usize,
+        y: &SVector<f64, N>,
+        scale: f64,
+    ) -> Result<()> {
+        let mut w = Vector3::new(y[0], y[1], y[2]);
+        if scale != 1.0 {
+            w *= scale;
         }
-        f(t, Some(k))?;
+        if N == 7 {
+            self.push(k, &w, Some(&Vector4::new(y[3], y[4], y[5], y[6])))
+        } else {
+            self.push(k, &w, None)
+        }
     }
-    Ok(())
 }
 
-/// The sorted discontinuities of the torque (empty without torque).
-fn breaks_of(options: &Options) -> Vec<f64> {
-    let mut breaks = options
-        .torque
-        .map(|t| t.discontinuities())
-        .unwrap_or_default();
-    breaks.retain(|t| t.is_finite());
-    breaks.sort_by(f64::total_cmp);
-    breaks.dedup();
-    breaks
-}
-
-/// The number of steps of a fixed-step run with step `dt` (see [`substeps`]), or an error
-/// naming `dt` if it exceeds `options.max_steps`.
-pub(crate) fn fixed_total(
-    dt: f64,
-    times: &[f64],
-    breaks: &[f64],
-    options: &Options,
-) -> Result<f64> {
-    let mut total = 0.0;
-    let mut prev = options.t0;
-    segments(options.t0, times, breaks, |t, _| {
-        total += substeps(prev, t, dt);
-        prev = t;
-        Ok(())
-    })?;
-    if total > options.max_steps as f64 {
-        return Err(Error::InvalidArgument {
-            name: "dt".into(),
-            reason: format!(
-                "dt = {} needs {} steps, more than max_steps = {}.",
-                Short(dt),
-                Short(total),
-                options.max_steps
-            ),
-        });
-    }
-    Ok(total)
-}
-
-/// The fixed-step loop of `stepper`: `n = ceil(interval / dt)` equal substeps between
-/// successive output times (and torque discontinuities), so that each step lies in an interval
-/// between two of those times, free of discontinuities.
-fn fixed_loop<S: Stepper>(
-    mut stepper: S,
+/// The fixed-step loop of a rigid body's `stepper` from `state0`.
+fn fixed<S: BodyStepper>(
+    stepper: S,
     dt: f64,
     state0: &State,
     times: &[f64],
+    breaks: &[f64],
     options: &Options,
-    col: &mut Collector,
+    out: &mut Checked,
 ) -> Result<Stats> {
-    let breaks = breaks_of(options);
-    let total = fixed_total(dt, times, &breaks, options)?;
-    let mut y = stepper.vars(state0);
-    stepper.start(&y);
-    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
-    let mut prev = options.t0;
-    segments(options.t0, times, &breaks, |t, k| {
-        let n = substeps(prev, t, dt);
-        if n > 0.0 {
-            let h = (t - prev) / n;
-            let segment = Segment::new(prev, t);
-            // Runs of steps between looks, so that the loop over steps is the same as without.
-            let (n, mut j) = (n as u64, 0);
-            while j < n {
-                let end = n.min(j + u64::from(progress.budget()));
-                // On a local copy, which the compiler keeps in registers.
-                let mut local = y;
-                for i in j..end {
-                    let t = prev + i as f64 * h;
-                    stepper
-                        .step(&segment, t, &mut local, h)
-                        .map_err(|e| stepper.at_time(e, t))?;
-                    stepper.restore(&mut local);
-                }
-                y = local;
-                progress.spend((end - j) as u32, || prev + end as f64 * h)?;
-                j = end;
-            }
-        }
-        prev = t;
-        match k {
-            Some(k) => col.push(times[k], &stepper.omega(&y), Some(&y.1)),
-            None => Ok(()),
-        }
-    })?;
-    progress.finish(prev);
-    let steps = total as u64;
-    Ok(Stats {
-        steps,
-        rejected_steps: 0,
-        rhs_evaluations: stepper.evaluations(steps),
+    let y0 = stepper.vars(state0);
+    fixed_loop(stepper, dt, y0, times, breaks, options, |k, stepper, y| {
+        out.push(k, &stepper.omega(y), Some(&y.1))
     })
-}
-
-#[inline]
-fn output<const N: usize>(col: &mut Collector, t: f64, y: &SVector<f64, N>) -> Result<()> {
-    let w = Vector3::new(y[0], y[1], y[2]);
-    if N == 7 {
-        let q = Vector4::new(y[3], y[4], y[5], y[6]);
-        col.push(t, &w, Some(&q))
-    } else {
-        col.push(t, &w, None)
-    }
-}
-
-/// A vector field that ticks a [`Progress`] at each evaluation (for `Dop853`, whose loop
-/// lives in [`super::dop853`]); it returns exactly what `sys` returns.
-struct Watched<'s, 'p, S> {
-    sys: &'s S,
-    progress: &'s Progress<'p>,
-}
-
-impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
-    #[inline]
-    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
-        self.progress.spend(1, || t)?;
-        self.sys.rhs(segment, t, y)
-    }
 }
 
 /// The adaptive loop of `Dop853` on the system `sys` from `y0`.
@@ -600,23 +106,20 @@ impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
 /// The angular velocity is integrated in units of `scale` (a power of two, 1 but for a
 /// torque-free run scaled by [`run_free`]): `y0`'s and `o.atol` are divided by it, the outputs'
 /// multiplied.
+#[allow(clippy::too_many_arguments)]
 fn run_dop853<S: System<N>, const N: usize>(
     sys: &S,
     y0: SVector<f64, N>,
     times: &[f64],
+    breaks: &[f64],
     options: &Options,
     o: &Dop853Options,
     scale: f64,
-    col: &mut Collector,
+    out: &mut Checked,
 ) -> Result<Stats> {
     // One solve per segment between torque discontinuities (restarting the method there).
-    let breaks = breaks_of(options);
+    let ends = segment_ends(options.t0, times, breaks);
     let t_last = times.last().copied().unwrap_or(options.t0);
-    let mut ends: Vec<f64> = breaks
-        .into_iter()
-        .filter(|&b| b > options.t0 && b < t_last)
-        .collect();
-    ends.push(t_last);
     let atol_w = match o.atol {
         Some(atol) => atol / scale,
         None => {
@@ -688,68 +191,8 @@ fn run_dop853<S: System<N>, const N: usize>(
         tol,
         &ends,
         renormalize,
-        |k, y| {
-            if scale == 1.0 {
-                output(col, times[k], y)
-            } else {
-                let mut y = *y;
-                for i in 0..3 {
-                    y[i] *= scale;
-                }
-                output(col, times[k], &y)
-            }
-        },
+        |k, y| out.push_state(k, y, scale),
     )
-}
-
-/// `dop853` from `options.t0` over the output `times`, one solve per segment ending at each
-/// of `ends` (the discontinuities inside the run, then the last output time), restarting the
-/// method there with the last step size; `out(k, y)` gets the state at `times[k]`. The one
-/// adaptive loop of the rigid body ([`run_dop853`]) and of the gyrostat
-/// ([`super::rotors::integrate_gyrostat`]), reporting each evaluation to the monitor.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn dop853_segments<S: System<N>, const N: usize>(
-    sys: &S,
-    y0: SVector<f64, N>,
-    times: &[f64],
-    options: &Options,
-    o: &Dop853Options,
-    tol: Tolerance<N>,
-    ends: &[f64],
-    renormalize: impl Fn(&mut SVector<f64, N>, &mut SVector<f64, N>) + Copy,
-    mut out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
-) -> Result<Stats> {
-    let mut settings = Settings {
-        tol,
-        first_step: o.first_step,
-        max_step: o.max_step,
-        max_steps: options.max_steps,
-    };
-    let mut stats = Stats::default();
-    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
-    let watched = Watched {
-        sys,
-        progress: &progress,
-    };
-    let (mut t, mut y, mut first) = (options.t0, y0, 0);
-    for &end in ends {
-        let last = first + times[first..].partition_point(|&x| x <= end);
-        let (y_end, h) = dop853::solve(
-            &watched,
-            t,
-            &y,
-            end,
-            &times[first..last],
-            &settings,
-            renormalize,
-            |k, y| out(first + k, y),
-            &mut stats,
-        )?;
-        settings.first_step = h;
-        (t, y, first) = (end, y_end, last);
-    }
-    progress.finish(t);
-    Ok(stats)
 }
 
 /// Output times between two looks at the monitor for [`Method::Exact`].
@@ -762,15 +205,12 @@ fn run_exact(
     state0: &State,
     times: &[f64],
     options: &Options,
-    col: &mut Collector,
+    sink: &mut Sink,
 ) -> Result<Stats> {
     let free = FreeRotation::new(*body.moments(), state0.omega, state0.orientation)?;
-    exact_range(&free, times, 0..times.len(), options, |_, w, q| {
-        // Checked finite by `exact_range`.
-        col.omega.push(*w);
-        if let (Some(list), Some(q)) = (col.orientation.as_mut(), q) {
-            list.push(*q);
-        }
+    // Checked finite by `exact_range`.
+    exact_range(&free, times, 0..times.len(), options, |j, w, q| {
+        sink(j, w, q)
     })?;
     if let Some(monitor) = options.monitor {
         monitor.add_finished();
@@ -784,7 +224,7 @@ fn run_exact(
 
 /// [`Method::Exact`] at the output times `times[range]` of the motion `free` (from
 /// `options.t0`; the orientation only if `options.with_orientation`): `out(j, omega, q)` for
-/// each `j` in `range`, in order, `omega` checked finite. Looks at the monitor every
+/// each `j` in `range`, in order, `omega` checked finite (an error from `out` stops the range). Looks at the monitor every
 /// [`EXACT_CHECK_EVERY`] times and reports the time from `times[range.start - 1]` (`t0` for
 /// the first) to the range's last, without counting the run finished: the ranges of a run
 /// add up to it, evaluated in any order (each output depends on its time alone). The first
@@ -795,7 +235,7 @@ pub(crate) fn exact_range(
     times: &[f64],
     range: std::ops::Range<usize>,
     options: &Options,
-    mut out: impl FnMut(usize, &Vector3<f64>, Option<&UnitQuaternion<f64>>),
+    mut out: impl FnMut(usize, &Vector3<f64>, Option<&UnitQuaternion<f64>>) -> Result<()>,
 ) -> Result<()> {
     let from = match range.start {
         0 => options.t0,
@@ -809,11 +249,11 @@ pub(crate) fn exact_range(
         if options.with_orientation {
             let (w, q) = free.try_state(t - options.t0)?;
             check_omega_output(false, t, &w)?;
-            out(j, &w, Some(&q));
+            out(j, &w, Some(&q))?;
         } else {
             let w = free.try_omega(t - options.t0)?;
             check_omega_output(false, t, &w)?;
-            out(j, &w, None);
+            out(j, &w, None)?;
         }
     }
     if let Some(last) = range.last() {
@@ -831,30 +271,31 @@ fn run<L: Load, const ORIENTATION: bool>(
     state0: &State,
     times: &[f64],
     options: &Options,
-    col: &mut Collector,
+    out: &mut Checked,
 ) -> Result<Stats> {
+    let breaks = &breaks(options.torque, Vec::new());
     match *method {
         Method::Splitting { dt, order } => {
             let stepper = Splitting::<L, ORIENTATION>::new(body, load, order);
-            fixed_loop(stepper, dt, state0, times, options, col)
+            fixed(stepper, dt, state0, times, breaks, options, out)
         }
         Method::Midpoint { dt } => {
             let stepper = Midpoint::<L, ORIENTATION>::new(body, load);
-            fixed_loop(stepper, dt, state0, times, options, col)
+            fixed(stepper, dt, state0, times, breaks, options, out)
         }
         Method::Rk4 { dt } => {
             let stepper = Rk4::<L, ORIENTATION>::new(body, load);
-            fixed_loop(stepper, dt, state0, times, options, col)
+            fixed(stepper, dt, state0, times, breaks, options, out)
         }
         Method::Dop853(o) => {
             let field = Field { body, load };
             if ORIENTATION {
-                run_dop853(&field, pack(state0), times, options, &o, 1.0, col)
+                run_dop853(&field, pack(state0), times, breaks, options, &o, 1.0, out)
             } else {
-                run_dop853(&field, state0.omega, times, options, &o, 1.0, col)
+                run_dop853(&field, state0.omega, times, breaks, options, &o, 1.0, out)
             }
         }
-        Method::Exact => run_exact(body, state0, times, options, col),
+        Method::Exact => run_exact(body, state0, times, options, out.sink),
     }
 }
 
@@ -883,11 +324,11 @@ fn run_free<const ORIENTATION: bool>(
     state0: &State,
     times: &[f64],
     options: &Options,
-    col: &mut Collector,
+    out: &mut Checked,
 ) -> Result<Stats> {
     let scale = match (method, omega_scale(&state0.omega)) {
         (Method::Rk4 { .. } | Method::Midpoint { .. } | Method::Dop853(_), Some(scale)) => scale,
-        _ => return run::<_, ORIENTATION>(method, body, NoTorque, state0, times, options, col),
+        _ => return run::<_, ORIENTATION>(method, body, NoTorque, state0, times, options, out),
     };
     let scaled = State {
         omega: state0.omega / scale,
@@ -897,12 +338,12 @@ fn run_free<const ORIENTATION: bool>(
         Method::Rk4 { dt } => {
             let inner = Rk4::<NoTorque, ORIENTATION>::new(body, NoTorque);
             let stepper = Scaled { inner, scale };
-            fixed_loop(stepper, dt, &scaled, times, options, col)
+            fixed(stepper, dt, &scaled, times, &[], options, out)
         }
         Method::Midpoint { dt } => {
             let inner = Midpoint::<NoTorque, ORIENTATION>::new(body, NoTorque);
             let stepper = Scaled { inner, scale };
-            fixed_loop(stepper, dt, &scaled, times, options, col)
+            fixed(stepper, dt, &scaled, times, &[], options, out)
         }
         Method::Dop853(o) => {
             let field = ScaledSystem {
@@ -913,9 +354,9 @@ fn run_free<const ORIENTATION: bool>(
                 scale,
             };
             if ORIENTATION {
-                run_dop853(&field, pack(&scaled), times, options, &o, scale, col)
+                run_dop853(&field, pack(&scaled), times, &[], options, &o, scale, out)
             } else {
-                run_dop853(&field, scaled.omega, times, options, &o, scale, col)
+                run_dop853(&field, scaled.omega, times, &[], options, &o, scale, out)
             }
         }
         Method::Splitting { .. } | Method::Exact => unreachable!("run without a scale"),
@@ -930,15 +371,8 @@ struct Scaled<S> {
     scale: f64,
 }
 
-impl<S: Stepper> Stepper for Scaled<S> {
-    fn vars(&self, state: &State) -> Vars {
-        // The state given is already in units of the scale (see `run_free`).
-        self.inner.vars(state)
-    }
-
-    fn omega(&self, y: &Vars) -> Vector3<f64> {
-        self.inner.omega(y) * self.scale
-    }
+impl<S: BodyStepper> Stepper for Scaled<S> {
+    type Vars = Vars;
 
     fn step(&mut self, segment: &Segment, t: f64, y: &mut Vars, h: f64) -> Result<()> {
         self.inner.step(segment, t, y, h * self.scale)
@@ -961,17 +395,14 @@ impl<S: Stepper> Stepper for Scaled<S> {
     }
 }
 
-/// A torque-free field, homogeneous of degree 2 in its rates (the angular velocity, and a
-/// gyrostat's free wheels), with the rates in units of `scale` (see [`omega_scale`]): the
-/// derivatives of `(w / scale, q, ...)` are `scale` times the field's at them.
-pub(crate) struct ScaledSystem<S> {
-    pub(crate) system: S,
-    pub(crate) scale: f64,
-}
+impl<S: BodyStepper> BodyStepper for Scaled<S> {
+    fn vars(&self, state: &State) -> Vars {
+        // The state given is already in units of the scale (see `run_free`).
+        self.inner.vars(state)
+    }
 
-impl<S: System<N>, const N: usize> System<N> for ScaledSystem<S> {
-    fn rhs(&self, segment: &Segment, t: f64, y: &SVector<f64, N>) -> Result<SVector<f64, N>> {
-        Ok(self.system.rhs(segment, t, y)? * self.scale)
+    fn omega(&self, y: &Vars) -> Vector3<f64> {
+        self.inner.omega(y) * self.scale
     }
 }
 
@@ -1002,7 +433,8 @@ pub fn integrate(
 }
 
 /// The checks of a run before its first step (a cancelled monitor, the method's settings, the
-/// initial state, the times), and its initial state with the quaternion renormalised.
+/// initial state, the times, `max_steps`), and its initial state with the quaternion
+/// renormalised.
 pub(crate) fn start(
     method: &Method,
     state0: &State,
@@ -1015,12 +447,6 @@ pub(crate) fn start(
     check_method(method, options)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
-    if options.max_steps == 0 {
-        return Err(Error::NonPositive {
-            name: "max_steps".into(),
-            value: 0.0,
-        });
-    }
     normalised(state0)
 }
 
@@ -1059,6 +485,33 @@ pub fn integrate_body(
     times: &[f64],
     options: &Options,
 ) -> Result<Trajectory> {
+    let mut omega = Vec::with_capacity(times.len());
+    let mut orientation = options
+        .with_orientation
+        .then(|| Vec::with_capacity(times.len()));
+    let stats = run_body(method, body, state0, times, options, &mut |_, w, q| {
+        omega.push(*w);
+        if let (Some(list), Some(q)) = (orientation.as_mut(), q) {
+            list.push(*q);
+        }
+        Ok(())
+    })?;
+    Ok(Trajectory {
+        omega,
+        orientation,
+        stats,
+    })
+}
+
+/// [`integrate_body`] with its outputs sent to `sink` as they come, rather than collected.
+pub(crate) fn run_body(
+    method: &Method,
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    sink: &mut Sink,
+) -> Result<Stats> {
     let state0 = &start(method, state0, times, options)?;
     // The orientation is integrated if returned or if the torque depends on it.
     let orientation =
@@ -1067,17 +520,16 @@ pub fn integrate_body(
         method,
         Method::Splitting { .. } | Method::Midpoint { .. } | Method::Rk4 { .. }
     );
-    let mut collector = Collector::new(times.len(), options.with_orientation, fixed_step);
-    let col = &mut collector;
-    let stats = match (options.torque, orientation) {
-        (None, false) => run_free::<false>(method, body, state0, times, options, col),
-        (None, true) => run_free::<true>(method, body, state0, times, options, col),
-        (Some(torque), false) => run::<_, false>(method, body, torque, state0, times, options, col),
-        (Some(torque), true) => run::<_, true>(method, body, torque, state0, times, options, col),
-    }?;
-    Ok(Trajectory {
-        omega: collector.omega,
-        orientation: collector.orientation,
-        stats,
-    })
+    let out = &mut Checked {
+        sink,
+        times,
+        with_orientation: options.with_orientation,
+        fixed_step,
+    };
+    match (options.torque, orientation) {
+        (None, false) => run_free::<false>(method, body, state0, times, options, out),
+        (None, true) => run_free::<true>(method, body, state0, times, options, out),
+        (Some(torque), false) => run::<_, false>(method, body, torque, state0, times, options, out),
+        (Some(torque), true) => run::<_, true>(method, body, torque, state0, times, options, out),
+    }
 }

@@ -23,11 +23,11 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use nalgebra::{UnitQuaternion, Vector3, Vector4};
 
-use super::driver::{check_omega_output, checked_unit, fixed_total, segments, substeps};
+use super::loops::{check_omega_output, checked_unit, fixed_total, segments, substeps};
+use super::method::{Method, Options, Stats};
 use super::midpoint;
-use super::monitor::{Monitor, Progress};
 use super::state::{Moments, State};
-use super::{Method, Options, Stats};
+use crate::monitor::{Monitor, Progress};
 use crate::{Error, Result};
 
 /// Bodies integrated together: two 256-bit vectors (a multiple of 4). Measured on Zen 4 (one

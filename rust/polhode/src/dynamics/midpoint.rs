@@ -16,7 +16,7 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use super::state::{Moments, State};
-use super::stepper::{Stepper, Vars};
+use super::stepper::{BodyStepper, Stepper, Vars};
 use super::system::{Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
 use crate::{Error, Result, Short};
@@ -414,7 +414,11 @@ impl<'a, L: Load, const ORIENTATION: bool> Midpoint<'a, L, ORIENTATION> {
     }
 }
 
+impl<L: Load, const ORIENTATION: bool> BodyStepper for Midpoint<'_, L, ORIENTATION> {}
+
 impl<L: Load, const ORIENTATION: bool> Stepper for Midpoint<'_, L, ORIENTATION> {
+    type Vars = Vars;
+
     #[inline(always)]
     fn step(&mut self, segment: &Segment, t: f64, y: &mut Vars, h: f64) -> Result<()> {
         let (w, q) = *y;

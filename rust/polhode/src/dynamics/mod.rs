@@ -38,8 +38,9 @@
 pub mod dop853;
 mod driver;
 pub(crate) mod lanes;
+mod loops;
+mod method;
 pub mod midpoint;
-mod monitor;
 pub mod rk4;
 pub mod rotors;
 pub mod splitting;
@@ -49,17 +50,15 @@ mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
-pub(crate) use driver::{check_method, check_times, exact_range, omega_scale, start, start_state};
-pub use driver::{
-    integrate, integrate_body, Dop853Options, Method, MethodSettings, Options, Stats, Stepping,
-    Trajectory, METHODS,
-};
+pub(crate) use driver::{exact_range, omega_scale, run_body, start, start_state};
+pub use driver::{integrate, integrate_body, Trajectory};
+pub(crate) use method::{check_method, check_times};
+pub use method::{Dop853Options, Method, MethodSettings, Options, Stats, Stepping, METHODS};
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,
 };
-pub use monitor::Monitor;
 pub use rk4::{rk4_step, rk4_step_omega, rk4_step_omega_torqued, rk4_step_torqued};
-pub(crate) use rotors::check_rotor_method;
+pub(crate) use rotors::{check_rotor_method, run_gyrostat};
 pub use rotors::{
     integrate_gyrostat, Gyrostat, GyrostatTrajectory, MotorFn, MotorTorque, RotorFields, RotorSpec,
     MAX_ROTOR_VARIABLES,

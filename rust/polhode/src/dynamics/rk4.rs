@@ -6,7 +6,7 @@
 use nalgebra::Vector3;
 
 use super::state::{Moments, State};
-use super::stepper::{Stepper, Vars};
+use super::stepper::{BodyStepper, Stepper, Vars};
 use super::system::{join, rate, unit_state, Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
 use crate::Result;
@@ -32,7 +32,11 @@ impl<'a, L: Load, const ORIENTATION: bool> Rk4<'a, L, ORIENTATION> {
     }
 }
 
+impl<L: Load, const ORIENTATION: bool> BodyStepper for Rk4<'_, L, ORIENTATION> {}
+
 impl<L: Load, const ORIENTATION: bool> Stepper for Rk4<'_, L, ORIENTATION> {
+    type Vars = Vars;
+
     #[inline(always)]
     fn step(&mut self, segment: &Segment, t: f64, (w, q): &mut Vars, h: f64) -> Result<()> {
         let (body, load) = (self.body, self.load);

@@ -35,12 +35,11 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
 use super::dop853::Tolerance;
-use super::driver::{
-    check_method, check_times, dop853_segments, omega_scale, segments, substeps, Method, Options,
-    ScaledSystem, Stats,
-};
-use super::monitor::{Monitor, Progress};
+use super::driver::omega_scale;
+use super::loops::{breaks, dop853_segments, fixed_loop, segment_ends, ScaledSystem};
+use super::method::{check_method, check_times, Method, Options, Stats};
 use super::state::{quaternion_rate, State};
+use super::stepper::Stepper;
 use super::system::System;
 use super::torque::{unit_vector, Segment, Torque};
 use crate::error::{finite, positive, Short};
@@ -425,6 +424,23 @@ impl Gyrostat {
         v
     }
 
+    /// The rotor variables at the start ([`Gyrostat::initial_variables`]) for the body's
+    /// angular velocity `omega` (principal axes), checked: an error naming `rotors` if they or
+    /// the total kinetic energy overflow double precision.
+    pub(crate) fn start(&self, omega: &Vector3<f64>) -> Result<Vec<f64>> {
+        let vars = self.initial_variables(omega);
+        let energy = self.energy(omega, &vars);
+        if !(energy.is_finite() && vars.iter().all(|v| v.is_finite())) {
+            return Err(Error::InvalidArgument {
+                name: "rotors".into(),
+                reason: "the rotors' angular momentum or kinetic energy at the start overflows \
+                         double precision."
+                    .into(),
+            });
+        }
+        Ok(vars)
+    }
+
     /// The total angular momentum `H = A w + sum h a + sum J s`, principal axes.
     #[must_use]
     pub fn angular_momentum(&self, omega: &Vector3<f64>, vars: &[f64]) -> Vector3<f64> {
@@ -622,6 +638,43 @@ pub fn integrate_gyrostat(
     times: &[f64],
     options: &Options,
 ) -> Result<GyrostatTrajectory> {
+    let mut out = GyrostatTrajectory {
+        omega: Vec::with_capacity(times.len()),
+        orientation: Vec::with_capacity(times.len()),
+        variables: Vec::with_capacity(times.len() * gyrostat.variables),
+        stats: Stats::default(),
+    };
+    out.stats = run_gyrostat(
+        method,
+        gyrostat,
+        state0,
+        times,
+        options,
+        &mut |_, w, q, v| {
+            out.omega.push(*w);
+            out.orientation.push(*q);
+            out.variables.extend_from_slice(v);
+            Ok(())
+        },
+    )?;
+    Ok(out)
+}
+
+/// Where a gyrostat's run sends its outputs: `sink(k, omega, q, variables)` at each output
+/// time `times[k]`, in order, every number finite (principal axes). An error from it stops the
+/// run with that error.
+pub(crate) type GyrostatSink<'a> =
+    dyn FnMut(usize, &Vector3<f64>, &UnitQuaternion<f64>, &[f64]) -> Result<()> + 'a;
+
+/// [`integrate_gyrostat`] with its outputs sent to `sink` as they come, rather than collected.
+pub(crate) fn run_gyrostat(
+    method: &Method,
+    gyrostat: &Gyrostat,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    sink: &mut GyrostatSink,
+) -> Result<Stats> {
     if let Some(monitor) = options.monitor {
         monitor.check()?;
     }
@@ -629,17 +682,11 @@ pub fn integrate_gyrostat(
     check_method(method, options)?;
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
-    if options.max_steps == 0 {
-        return Err(Error::NonPositive {
-            name: "max_steps".into(),
-            value: 0.0,
-        });
-    }
     match gyrostat.variables {
-        0..=3 => run::<10>(method, gyrostat, state0, times, options),
-        4..=6 => run::<13>(method, gyrostat, state0, times, options),
-        7..=12 => run::<19>(method, gyrostat, state0, times, options),
-        _ => run::<31>(method, gyrostat, state0, times, options),
+        0..=3 => run::<10>(method, gyrostat, state0, times, options, sink),
+        4..=6 => run::<13>(method, gyrostat, state0, times, options, sink),
+        7..=12 => run::<19>(method, gyrostat, state0, times, options, sink),
+        _ => run::<31>(method, gyrostat, state0, times, options, sink),
     }
 }
 
@@ -671,7 +718,8 @@ fn run<const N: usize>(
     state0: &State,
     times: &[f64],
     options: &Options,
-) -> Result<GyrostatTrajectory> {
+    sink: &mut GyrostatSink,
+) -> Result<Stats> {
     let k = gyrostat.variables;
     let mut y0 = SVector::<f64, N>::zeros();
     let q0 = state0.orientation.coords / state0.orientation.coords.norm();
@@ -681,16 +729,7 @@ fn run<const N: usize>(
     for i in 0..4 {
         y0[3 + i] = q0[i];
     }
-    let vars0 = gyrostat.initial_variables(&state0.omega);
-    let energy0 = gyrostat.energy(&state0.omega, &vars0);
-    if !(energy0.is_finite() && vars0.iter().all(|v| v.is_finite())) {
-        return Err(Error::InvalidArgument {
-            name: "rotors".into(),
-            reason: "the rotors' angular momentum or kinetic energy at the start overflows double \
-                     precision."
-                .into(),
-        });
-    }
+    let vars0 = gyrostat.start(&state0.omega)?;
     // Without a torque, motors or dampers the equations are homogeneous of degree 2 in the
     // rates (w and the wheels' momenta): far from 1 they are integrated in units of a power of
     // two, as a rigid body's (see `driver::omega_scale`); at |w| ~ 1e-160 the products of the
@@ -710,13 +749,8 @@ fn run<const N: usize>(
     for (i, v) in vars0.into_iter().enumerate() {
         y0[7 + i] = v / scale;
     }
-    let mut out = GyrostatTrajectory {
-        omega: Vec::with_capacity(times.len()),
-        orientation: Vec::with_capacity(times.len()),
-        variables: Vec::with_capacity(times.len() * k),
-        stats: Stats::default(),
-    };
-    let mut push = |t: f64, y: &SVector<f64, N>| -> Result<()> {
+    let mut push = |j: usize, y: &SVector<f64, N>| -> Result<()> {
+        let t = times[j];
         let mut y = *y;
         for i in (0..3).chain(7..7 + k) {
             y[i] *= scale;
@@ -735,14 +769,13 @@ fn run<const N: usize>(
                 value: *v,
             });
         }
-        out.omega.push(Vector3::new(y[0], y[1], y[2]));
         let q = Vector4::new(y[3], y[4], y[5], y[6]);
-        out.orientation
-            .push(UnitQuaternion::new_unchecked(Quaternion::from(
-                q / q.norm(),
-            )));
-        out.variables.extend_from_slice(&y.as_slice()[7..7 + k]);
-        Ok(())
+        sink(
+            j,
+            &Vector3::new(y[0], y[1], y[2]),
+            &UnitQuaternion::new_unchecked(Quaternion::from(q / q.norm())),
+            &y.as_slice()[7..7 + k],
+        )
     };
     let field = ScaledSystem {
         system: Field {
@@ -751,36 +784,32 @@ fn run<const N: usize>(
         },
         scale,
     };
-    let mut breaks = options
-        .torque
-        .map(|t| t.discontinuities())
-        .unwrap_or_default();
-    breaks.extend(gyrostat.discontinuities());
-    breaks.retain(|t| t.is_finite());
-    breaks.sort_by(f64::total_cmp);
-    breaks.dedup();
-    let stats = match *method {
-        Method::Rk4 { dt } => fixed_rk4(&field, dt, y0, times, options, &breaks, |k, y| {
-            push(times[k], y)
-        })?,
+    let breaks = breaks(options.torque, gyrostat.discontinuities());
+    match *method {
+        Method::Rk4 { dt } => {
+            let stepper = Rk4 { sys: &field };
+            fixed_loop(stepper, dt, y0, times, &breaks, options, |j, _, y| {
+                push(j, y)
+            })
+        }
         Method::Dop853(mut o) => {
             o.atol = o.atol.map(|atol| atol / scale);
             let tolerance = tolerance(gyrostat, &field, &y0, times, options, &o, &breaks)?;
-            adaptive(
+            let ends = segment_ends(options.t0, times, &breaks);
+            dop853_segments(
                 &field,
                 y0,
                 times,
                 options,
                 &o,
                 tolerance,
-                &breaks,
-                |k, y| push(times[k], y),
-            )?
+                &ends,
+                renormalize,
+                push,
+            )
         }
-        _ => return Err(check_rotor_method(method).unwrap_err()),
-    };
-    out.stats = stats;
-    Ok(out)
+        _ => Err(check_rotor_method(method).unwrap_err()),
+    }
 }
 
 /// Renormalises the quaternion part of `y` (and of its derivative `f`, by the same factor).
@@ -793,69 +822,36 @@ fn renormalize<const N: usize>(y: &mut SVector<f64, N>, f: &mut SVector<f64, N>)
     }
 }
 
-/// Classic RK4 on `(w, q, variables)` with `n = ceil(interval / dt)` equal steps between
-/// successive output times and discontinuities, the quaternion renormalised after each step.
-fn fixed_rk4<S: System<N>, const N: usize>(
-    sys: &S,
-    dt: f64,
-    y0: SVector<f64, N>,
-    times: &[f64],
-    options: &Options,
-    breaks: &[f64],
-    mut out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
-) -> Result<Stats> {
-    let mut total = 0.0;
-    let mut prev = options.t0;
-    segments(options.t0, times, breaks, |t, _| {
-        total += substeps(prev, t, dt);
-        prev = t;
+/// Classic RK4 on the gyrostat's `(w, q, variables)`, the quaternion renormalised after each
+/// step.
+struct Rk4<'a, S, const N: usize> {
+    sys: &'a S,
+}
+
+impl<S: System<N>, const N: usize> Stepper for Rk4<'_, S, N> {
+    type Vars = SVector<f64, N>;
+
+    #[inline]
+    fn step(&mut self, segment: &Segment, t: f64, y: &mut Self::Vars, h: f64) -> Result<()> {
+        let sys = self.sys;
+        let half = 0.5 * h;
+        let k1 = sys.rhs(segment, t, y)?;
+        let k2 = sys.rhs(segment, t + half, &(*y + k1 * half))?;
+        let k3 = sys.rhs(segment, t + half, &(*y + k2 * half))?;
+        let k4 = sys.rhs(segment, t + h, &(*y + k3 * h))?;
+        *y += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
         Ok(())
-    })?;
-    if total > options.max_steps as f64 {
-        return Err(Error::InvalidArgument {
-            name: "dt".into(),
-            reason: format!(
-                "dt = {} needs {} steps, more than max_steps = {}.",
-                Short(dt),
-                Short(total),
-                options.max_steps
-            ),
-        });
     }
-    let progress = Progress::new(options.monitor, options.t0, Monitor::CHECK_EVERY);
-    let mut y = y0;
-    let mut prev = options.t0;
-    segments(options.t0, times, breaks, |t, k| {
-        let n = substeps(prev, t, dt) as u64;
-        if n > 0 {
-            let h = (t - prev) / n as f64;
-            let segment = Segment::new(prev, t);
-            for i in 0..n {
-                let s = prev + i as f64 * h;
-                let half = 0.5 * h;
-                let k1 = sys.rhs(&segment, s, &y)?;
-                let k2 = sys.rhs(&segment, s + half, &(y + k1 * half))?;
-                let k3 = sys.rhs(&segment, s + half, &(y + k2 * half))?;
-                let k4 = sys.rhs(&segment, s + h, &(y + k3 * h))?;
-                y += (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
-                let mut unused = SVector::<f64, N>::zeros();
-                renormalize(&mut y, &mut unused);
-                progress.spend(1, || s + h)?;
-            }
-        }
-        prev = t;
-        match k {
-            Some(k) => out(k, &y),
-            None => Ok(()),
-        }
-    })?;
-    progress.finish(prev);
-    let steps = total as u64;
-    Ok(Stats {
-        steps,
-        rejected_steps: 0,
-        rhs_evaluations: 4 * steps,
-    })
+
+    #[inline]
+    fn restore(&mut self, y: &mut Self::Vars) {
+        let mut unused = SVector::<f64, N>::zeros();
+        renormalize(y, &mut unused);
+    }
+
+    fn evaluations(&self, steps: u64) -> u64 {
+        4 * steps
+    }
 }
 
 /// The absolute tolerances of `dop853`: `atol` (default `rtol` times the largest rate at the
@@ -920,26 +916,4 @@ fn tolerance<S: System<N>, const N: usize>(
         atol,
         rtol: SVector::<f64, N>::repeat(o.rtol),
     })
-}
-
-/// `dop853` over the output times, one solve per piece between discontinuities.
-#[allow(clippy::too_many_arguments)]
-fn adaptive<S: System<N>, const N: usize>(
-    sys: &S,
-    y0: SVector<f64, N>,
-    times: &[f64],
-    options: &Options,
-    o: &super::Dop853Options,
-    tol: Tolerance<N>,
-    breaks: &[f64],
-    out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
-) -> Result<Stats> {
-    let t_last = times.last().copied().unwrap_or(options.t0);
-    let mut ends: Vec<f64> = breaks
-        .iter()
-        .copied()
-        .filter(|&b| b > options.t0 && b < t_last)
-        .collect();
-    ends.push(t_last);
-    dop853_segments(sys, y0, times, options, o, tol, &ends, renormalize, out)
 }

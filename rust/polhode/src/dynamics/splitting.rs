@@ -26,7 +26,7 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use super::state::{Moments, State};
-use super::stepper::{Stepper, Vars};
+use super::stepper::{BodyStepper, Stepper, Vars};
 use super::system::{Load, NoTorque};
 use super::torque::{require_orientation_free, Segment, Torque};
 use crate::{Error, Result, Short};
@@ -76,14 +76,6 @@ const Y6_2: f64 = 0.235_573_213_359_358_13;
 const Y6_3: f64 = -1.177_679_984_178_871;
 const Y6_0: f64 = 1.0 - 2.0 * (Y6_1 + Y6_2 + Y6_3);
 const YOSHIDA6: [f64; 7] = [Y6_1, Y6_2, Y6_3, Y6_0, Y6_3, Y6_2, Y6_1];
-
-/// The splitting order of the axes `[outer, inner, middle]`: the smallest moment outermost,
-/// the largest in the middle (ties broken by index).
-pub(crate) fn axis_order(moments: &Vector3<f64>) -> [usize; 3] {
-    let mut idx = [0usize, 1, 2];
-    idx.sort_by(|&a, &b| moments[a].total_cmp(&moments[b]));
-    [idx[0], idx[1], idx[2]]
-}
 
 /// `(sin x, cos x - 1)`: Taylor polynomials for `|x| <= 1/4` (truncation below 1e-20 relative,
 /// about 1 ulp like the library functions, and several times faster), the library beyond.
@@ -323,7 +315,8 @@ impl<'a, L: Load, const ORIENTATION: bool> Splitting<'a, L, ORIENTATION> {
     }
 }
 
-impl<L: Load, const ORIENTATION: bool> Stepper for Splitting<'_, L, ORIENTATION> {
+/// The splitting integrates the angular momentum `m = I w`.
+impl<L: Load, const ORIENTATION: bool> BodyStepper for Splitting<'_, L, ORIENTATION> {
     #[inline(always)]
     fn vars(&self, state: &State) -> Vars {
         (
@@ -336,6 +329,10 @@ impl<L: Load, const ORIENTATION: bool> Stepper for Splitting<'_, L, ORIENTATION>
     fn omega(&self, (m, _): &Vars) -> Vector3<f64> {
         m.component_mul(self.body.inverse())
     }
+}
+
+impl<L: Load, const ORIENTATION: bool> Stepper for Splitting<'_, L, ORIENTATION> {
+    type Vars = Vars;
 
     #[inline(always)]
     fn step(&mut self, segment: &Segment, t: f64, (m, q): &mut Vars, h: f64) -> Result<()> {
@@ -483,6 +480,7 @@ pub fn splitting_step_torqued<T: Torque + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::state::axis_order;
 
     /// Largest relative energy error over `n` Strang steps with the axis order `axes`.
     fn energy_error(

@@ -105,7 +105,7 @@ impl Moments {
             moments,
             inverse,
             euler,
-            split_axes: crate::dynamics::splitting::axis_order(&moments),
+            split_axes: axis_order(&moments),
         })
     }
 
@@ -192,4 +192,13 @@ pub(crate) fn quaternion_rate2(q: &Vector4<f64>, omega: &Vector3<f64>) -> Vector
         s * c + x * b - y * a,
         -(x * a + y * b + z * c),
     )
+}
+
+/// The splitting's order of the axes `[outer, inner, middle]` (see `splitting`): the smallest
+/// moment outermost, the largest in the middle (ties broken by index). A property of the
+/// moments, kept with them ([`Moments`] holds it).
+pub(crate) fn axis_order(moments: &Vector3<f64>) -> [usize; 3] {
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&a, &b| moments[a].total_cmp(&moments[b]));
+    [idx[0], idx[1], idx[2]]
 }

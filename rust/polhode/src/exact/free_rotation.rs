@@ -659,75 +659,21 @@ impl FreeRotation {
         mx: &[Xd; 3],
         q0: &UnitQuaternion<f64>,
     ) -> Result<(Regime, Motion, Xd)> {
-        let steady = || -> Result<(Motion, Xd)> {
-            let norm = omega0
-                .iter()
-                .fold(Xd::ZERO, |a, w| a + Xd::prod(*w, *w))
-                .sqrt();
-            if norm.is_zero() {
-                let motion = Motion::Steady {
-                    axis: Vector3::zeros(),
-                    rate: Dd::ZERO,
-                    rho: 0,
-                };
-                return Ok((motion, Xd::ZERO));
-            }
-            let rho = norm.e;
-            let rate = norm.ldexp(-rho).to_dd();
-            let axis = omega0.map(|w| ldexp(w, -rho) / rate.hi);
-            Ok((Motion::Steady { axis, rate, rho }, norm))
-        };
         if omega0.iter().all(|w| *w == 0.0) {
-            let (motion, rate) = steady()?;
+            let (motion, rate) = steady(omega0);
             return Ok((Regime::Rest, motion, rate));
         }
         let (i0, i1, i2) = (moments[0], moments[1], moments[2]);
         if i0 == i1 && i1 == i2 {
-            let (motion, rate) = steady()?;
+            let (motion, rate) = steady(omega0);
             return Ok((Regime::Spherical, motion, rate));
         }
         if i0 == i1 || i1 == i2 || i0 == i2 {
-            let s = if i0 == i1 {
-                2
-            } else if i1 == i2 {
-                0
-            } else {
-                1
-            };
-            let it = moments[(s + 1) % 3];
-            let is = moments[s];
-            let g = mx.iter().fold(Xd::ZERO, |acc, x| acc + *x * *x).sqrt();
-            let nutation = g / it;
-            let body = Xd::sum(is, -it).mul_f64(omega0[s]) / it;
-            // Time in units of the faster of the two rates (the slower one, if below 2^-1022 of
-            // it, turns by nothing within the time bound and is dropped).
-            let rate = if nutation.abs_lt(body) {
-                body.abs()
-            } else {
-                nutation
-            };
-            let rho = rate.e;
-            // m0 / G, each component rounded once.
-            let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
-            let normal = |x: Dd| {
-                if x.hi.abs() < f64::MIN_POSITIVE {
-                    Dd::ZERO
-                } else {
-                    x
-                }
-            };
-            let sym = Symmetric {
-                axis: s,
-                rho,
-                nutation_rate: normal(nutation.ldexp(-rho).to_dd()),
-                m_dir,
-                body_rate: normal(body.ldexp(-rho).to_dd()),
-            };
-            return Ok((Regime::Symmetric { axis: s }, Motion::Symmetric(sym), rate));
+            return Ok(symmetric(moments, omega0, mx));
         }
         let mut order = [0usize, 1, 2];
         order.sort_by(|a, b| moments[*a].total_cmp(&moments[*b]));
-        let [lo, mid, hi] = order;
+        let mid = order[1];
         let zeros = omega0.iter().filter(|x| **x == 0.0).count();
         if zeros == 2 {
             let axis = (0..3).find(|i| omega0[*i] != 0.0).unwrap_or(mid);
@@ -736,285 +682,15 @@ impl FreeRotation {
             } else {
                 Regime::AboutAxis(axis)
             };
-            let (motion, rate) = steady()?;
+            let (motion, rate) = steady(omega0);
             return Ok((regime, motion, rate));
         }
-        // Units: momenta 2^mu (about the largest |I_i w_i|), moments 2^iota (about the largest
-        // moment), both even powers; time 2^-rho, rho = mu - iota.
-        let mmax = mx
-            .iter()
-            .copied()
-            .fold(Xd::ZERO, |a, x| if a.abs_lt(x) { x.abs() } else { a });
-        let mu = even_exponent(mmax);
-        let iota = even_exponent(Xd::new(moments.max()));
-        let rho = mu - iota;
-        // The double products I_i w_i (rounded once), in units of 2^mu.
-        let mh = [0, 1, 2].map(|i| {
-            if omega0[i] == 0.0 {
-                Sd::new(moments[i] * omega0[i], 0) // a zero with its sign
-            } else {
-                Sd::new(mx[i].m.to_f64(), mx[i].e - mu)
-            }
-        });
-        let ih = |i: usize| Xd::new(moments[i]);
-        // Delta_2 = m_lo^2 (I_lo - I_mid)/I_lo + m_hi^2 (I_hi - I_mid)/I_hi
-        //         = I_lo w_lo^2 (I_lo - I_mid) + I_hi w_hi^2 (I_hi - I_mid), exactly: its sign
-        // is the regime and it is zero exactly on the separatrix.
-        let delta2 = exact_sum_a_b2_diff(&[
-            (moments[lo], omega0[lo], moments[lo], moments[mid]),
-            (moments[hi], omega0[hi], moments[hi], moments[mid]),
-        ]);
-        let (polar, other) = if delta2.is_negative() {
-            (lo, hi)
-        } else {
-            (hi, lo)
-        };
-        let frame = Frame::new([other, mid, polar]);
-        let mc3 = frame.to_canonical_sd(&mh);
-        let [i1, i2, i3] = frame.index.map(|i| moments[i]);
-        let ic = frame.index.map(|i| ih(i).to_sd(iota));
-        let [m1, m2, m3] = mc3;
-        let d21 = Xd::sum(i2, -i1);
-        let d31 = Xd::sum(i3, -i1);
-        let d32 = Xd::sum(i3, -i2);
-        let [n1, n2, n3] = [0, 1, 2].map(|i| mx[frame.index[i]]);
-        let sq = |x: Xd| x * x;
-        let delta1 = sq(n2) * d21 / i2 + sq(n3) * d31 / i3;
-        let mdelta3 = sq(n1) * d31 / i1 + sq(n2) * d32 / i2;
-        let g = (sq(n1) + sq(n2) + sq(n3)).sqrt();
-        let lambda = (delta1 * d32 / Xd::new(i1).mul_f64(i2).mul_f64(i3)).sqrt();
-        // Amplitudes, as hypotenuses (no cancellation, no overflow).
-        let r = |x: Xd| x.to_sd(0).sqrt();
-        let b1 = Sd::hypot(m1, m2.mul(r(Xd::new(i1) * d32 / d31.mul_f64(i2))));
-        let b2 = Sd::hypot(m1.mul(r(Xd::new(i2) * d31 / d32.mul_f64(i1))), m2);
-        let b3 = Sd::hypot(m2.mul(r(Xd::new(i3) * d21 / d31.mul_f64(i2))), m3);
-        let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
-        let s3 = sign(m3.x);
-        // Euler polar axis: canonical axis 1 or 3, so that the other one, x, has 1/I_x
-        // closest to 1/I2: then phi' = G/I_x + G (1/I2 - 1/I_x) (weight in [0, 1]) has the
-        // smallest varying part (never more than a factor 2 of cancellation).
-        let polar_c1 = {
-            let [j1, j2, j3] = ic.map(|x| x.to_f64());
-            if ic.iter().all(|x| x.e == 0) {
-                (1.0 / j2 - 1.0 / j3).abs() <= (1.0 / j2 - 1.0 / j1).abs()
-            } else {
-                // |1/I2 - 1/I3| <= |1/I2 - 1/I1|  <=>  |I3 - I2| I1 <= |I2 - I1| I3.
-                !(d21.abs().mul_f64(i3)).abs_lt(d32.abs().mul_f64(i1))
-            }
-        };
-        let i_x = if polar_c1 { i3 } else { i1 };
-        let base_rate = g / i_x;
-        // C = G (1/I2 - 1/I_x) (B2/Bh)^2 / lambda and nu, Bh = B3 or B1.
-        let dxm = Xd::sum(i_x, -i2) / Xd::new(i2).mul_f64(i_x);
-        let (ratio, nu) = if polar_c1 {
-            // G^2 - m1^2 = B3^2 + B1^2 sn^2: nu = B1^2/B3^2 = I1 (-Delta3) / (I3 Delta1).
-            (
-                Xd::new(i2) * mdelta3 * d31 / (d32.mul_f64(i3) * delta1),
-                Xd::new(i1) * mdelta3 / delta1.mul_f64(i3),
-            )
-        } else {
-            // G^2 - m3^2 = B1^2 + m B3^2 sn^2: nu = m B3^2/B1^2 = I3 (I2 - I1) / (I1 (I3 - I2)).
-            (
-                Xd::new(i2) * d31 / d32.mul_f64(i1),
-                Xd::new(i3) * d21 / d32.mul_f64(i1),
-            )
-        };
-        let coef = g * dxm * ratio / lambda;
-        // The Euler frame: the canonical frame or its cyclic shift (2, 3, 1).
-        let euler_frame = if polar_c1 {
-            Frame {
-                index: [frame.index[1], frame.index[2], frame.index[0]],
-                sign: [frame.sign[1], frame.sign[2], frame.sign[0]],
-            }
-        } else {
-            frame
-        };
-        let q_e = euler_frame.quaternion();
-        let euler = if polar_c1 { [m2, m3, m1] } else { [m1, m2, m3] };
-        let (theta0, psi0) = theta_psi(euler);
-        let q_l = q0 * q_e * qz(-psi0) * qx(-theta0);
-        let nu_dd = nu.to_dd();
-        let lambda_dd = checked_dd(lambda.ldexp(-rho), "rates")?;
-        let base_dd = checked_dd(base_rate.ldexp(-rho), "rates")?;
-        let coef_dd = coef.to_dd();
-        if !(coef_dd.hi.is_finite() && nu_dd.hi.is_finite()) {
-            return Err(too_wide("rates"));
+        let asymmetric = Asymmetric::new(moments, omega0, mx, q0, order)?;
+        let mc_x = asymmetric.mc_x;
+        if asymmetric.delta2.is_zero() || mc_x.is_zero() || mc_x.is_negative() {
+            return Ok(asymmetric.separatrix());
         }
-        // The largest precession rate, |G/I_x| + |C| lambda / (1 + nu).
-        let phi_rate = base_rate.abs() + coef.abs() * lambda / (Xd::new(1.0) + nu);
-        let mut common = Common {
-            frame,
-            moments: ic,
-            b: [b1, b2, b3],
-            s: [sign(m1.x), s3 * sign(i3 - i2), s3],
-            rho,
-            lambda: lambda_dd,
-            u0: Dd::ZERO,
-            u0_q: 0,
-            euler_cyclic: polar_c1,
-            base_rate: base_dd,
-            coef: coef_dd,
-            nu: nu_dd.to_f64(),
-            nu_dd,
-            j0: Dd::ZERO,
-            q_l,
-            q_e_inv: q_e.inverse(),
-        };
-        let mc_x = delta2 * d31 / (delta1 * d32);
-        if delta2.is_zero() || mc_x.is_zero() || mc_x.is_negative() {
-            // Separatrix: s2 = s1 s3 sign(I3 - I2); e^u0 = (G + s2 m2) / hypot(m1, m3).
-            common.s[1] = common.s[0] * s3 * sign(i3 - i2);
-            common.b[1] = g.to_sd(mu);
-            let y = n2.mul_f64(common.s[1] * frame.sign[1]);
-            let h = (sq(n1) + sq(n3)).sqrt();
-            let e0 = if y.is_negative() {
-                h / (g - y)
-            } else {
-                (g + y) / h
-            };
-            let u0 = e0.ln();
-            common.u0 = u0;
-            let mut sep = Separatrix { c: common };
-            sep.c.j0 = sep.j(u0);
-            return Ok((
-                Regime::Separatrix,
-                Motion::Separatrix(Box::new(sep)),
-                phi_rate,
-            ));
-        }
-        // Elliptic: the sign of m1 is carried by cn.
-        common.s[0] = 1.0;
-        let kp_x = mc_x.sqrt();
-        let ell = if kp_x.e >= -54 {
-            let mc_dd = mc_x.to_dd();
-            let mc = mc_dd.to_f64();
-            let k = ellipk_dd(mc_dd);
-            let kp_dd = mc_dd.sqrt();
-            let [half, jc_quarter] = cel_many(
-                kp_dd,
-                nu_dd + 1.0,
-                [(Dd::ZERO, Dd::ONE), (Dd::ONE, Dd::ZERO)],
-            );
-            let j_half = half * 2.0;
-            // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
-            // reflected about K when cn < 0. In the outer half (c^2 < k'/(1 + k') = cn^2(K/2)),
-            // u0 = +-(K - v) with y = sd v = |c| / k' (cn(K - v) = k' sd v):
-            // v = y R_F(1 - c^2, 1, 1 + k^2 y^2) (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so
-            // that a small cn keeps its digits.
-            let c0 = m1.div(b1).to_f64().clamp(-1.0, 1.0);
-            let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
-            let kp = kp_dd.to_f64();
-            if c0 * c0 < kp / (1.0 + kp) {
-                let y = c0.abs() / kp;
-                let v = y * carlson_rf(1.0 - c0 * c0, 1.0, 1.0 + (1.0 - mc) * (y * y));
-                // u0 = sign(s0) (K -+ v), -+ as cn >= 0 or < 0.
-                common.u0_q = sign(s0) as i64;
-                common.u0 = Dd::new(v * -sign(s0) * sign(c0));
-            } else {
-                let f = s0 * carlson_rf(c0 * c0, c0 * c0 + mc * s0 * s0, 1.0);
-                common.u0 = if c0 >= 0.0 {
-                    Dd::new(f)
-                } else {
-                    k * (2.0 * sign(s0)) - f
-                };
-            }
-            let functions = if kp_x.e >= -27 {
-                Functions::Landen
-            } else {
-                Functions::Corrected
-            };
-            let theta = if functions == Functions::Landen {
-                ThetaJ::new(mc, k, common.nu, j_half)
-            } else {
-                None
-            };
-            Elliptic {
-                c: common,
-                mc,
-                kp,
-                kp_exp: 0,
-                functions,
-                theta,
-                landen: Landen::new(mc),
-                k,
-                inv_k: 1.0 / k.hi,
-                inv_k2: 0.5 / k.hi,
-                j_half,
-                jc_quarter,
-            }
-        } else {
-            // k' < 2^-54: K = pi / (2 AGM((1 + k')/2, sqrt(k'))), the rest hyperbolic.
-            let kp = kp_x.to_sd(0);
-            let a1 = (Dd::ONE + kp_x.to_dd()) * 0.5;
-            let k = Dd::PI / (a1 * agm1(kp_x.sqrt().to_dd() / a1) * 2.0);
-            let jc_quarter = cel(
-                Dd::new(kp_x.to_f64().max(1e-300)),
-                nu_dd + 1.0,
-                Dd::ONE,
-                Dd::ZERO,
-            );
-            let j_half = (k - jc_quarter) * 2.0 / (nu_dd + 1.0);
-            let c0 = m1.div(b1);
-            let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
-            let ca = Xd::new(c0.x.abs()).ldexp(c0.e);
-            if (ca * ca).abs_lt(kp_x) {
-                // Near u = K: cn(K - v) = k' sinh v; u0 = sign(s0) (K -+ v).
-                let v = asinh_xd(ca / kp_x);
-                common.u0_q = sign(s0) as i64;
-                common.u0 = v * (-sign(s0) * sign(c0.x));
-            } else {
-                // sinh u = sn / cn.
-                let f = asinh_xd(Xd::new(s0.abs()) / ca) * sign(s0);
-                if c0.x >= 0.0 {
-                    common.u0 = f;
-                } else {
-                    common.u0_q = 2 * sign(s0) as i64;
-                    common.u0 = -f;
-                }
-            }
-            Elliptic {
-                c: common,
-                mc: 0.0,
-                kp: kp.x,
-                kp_exp: kp.e,
-                functions: Functions::Hyperbolic,
-                theta: None,
-                landen: Landen::new(1.0),
-                k,
-                inv_k: 1.0 / k.hi,
-                inv_k2: 0.5 / k.hi,
-                j_half,
-                jc_quarter,
-            }
-        };
-        let mut ell = ell;
-        if ell.functions == Functions::Corrected {
-            // One Newton step on u0 with the accurate functions (u0 from R_F is good to eps |u0|,
-            // which a decaying cn or dn would feel as a relative error): on cn where
-            // |cn| <= |sn| (well conditioned there, cn(K - v) = k' sd v), on sn elsewhere.
-            let c0 = m1.div(b1).to_f64();
-            let s0 = m2.mul_f64(ell.c.s[1]).div(b2).to_f64();
-            let (s, c, d, _, _) = ell.phase::<false>(ell.c.u(0.0));
-            let delta = if c0.abs() <= s0.abs() {
-                (c - c0) / (s * d)
-            } else {
-                (s0 - s) / (c * d)
-            };
-            ell.c.u0 = ell.c.u0 + delta;
-        }
-        ell.c.j0 = ell.phase::<true>(ell.c.u(0.0)).3;
-        // The fastest angle: the precession or the phase of omega, 2 pi lambda / 4K.
-        let omega_rate = (lambda * Xd::from_dd(Dd::TAU)) / Xd::from_dd(ell.k * 4.0);
-        let rate = if phi_rate.abs_lt(omega_rate) {
-            omega_rate
-        } else {
-            phi_rate
-        };
-        Ok((
-            Regime::AboutAxis(polar),
-            Motion::Elliptic(Box::new(ell)),
-            rate,
-        ))
+        Ok(asymmetric.elliptic())
     }
 
     /// Body angular velocity at time `t` (NaN beyond [`FreeRotation::max_time`]: use
@@ -1513,6 +1189,451 @@ impl Separatrix {
                 x.tanh()
             };
             (u - at) / (self.c.nu_dd + 1.0)
+        }
+    }
+}
+
+/// The steady rotation of `omega0` (a body at rest, a sphere, a spin about a principal axis)
+/// and its rate.
+fn steady(omega0: &Vector3<f64>) -> (Motion, Xd) {
+    let norm = omega0
+        .iter()
+        .fold(Xd::ZERO, |a, w| a + Xd::prod(*w, *w))
+        .sqrt();
+    if norm.is_zero() {
+        let motion = Motion::Steady {
+            axis: Vector3::zeros(),
+            rate: Dd::ZERO,
+            rho: 0,
+        };
+        return (motion, Xd::ZERO);
+    }
+    let rho = norm.e;
+    let rate = norm.ldexp(-rho).to_dd();
+    let axis = omega0.map(|w| ldexp(w, -rho) / rate.hi);
+    (Motion::Steady { axis, rate, rho }, norm)
+}
+
+/// The symmetric top (two equal moments): its regime, motion and fastest rate.
+fn symmetric(moments: &Vector3<f64>, omega0: &Vector3<f64>, mx: &[Xd; 3]) -> (Regime, Motion, Xd) {
+    let (i0, i1, i2) = (moments[0], moments[1], moments[2]);
+    let s = if i0 == i1 {
+        2
+    } else if i1 == i2 {
+        0
+    } else {
+        1
+    };
+    let it = moments[(s + 1) % 3];
+    let is = moments[s];
+    let g = mx.iter().fold(Xd::ZERO, |acc, x| acc + *x * *x).sqrt();
+    let nutation = g / it;
+    let body = Xd::sum(is, -it).mul_f64(omega0[s]) / it;
+    // Time in units of the faster of the two rates (the slower one, if below 2^-1022 of
+    // it, turns by nothing within the time bound and is dropped).
+    let rate = if nutation.abs_lt(body) {
+        body.abs()
+    } else {
+        nutation
+    };
+    let rho = rate.e;
+    // m0 / G, each component rounded once.
+    let m_dir = Vector3::from_fn(|i, _| ldexp(mx[i].m.to_f64() / g.m.hi, mx[i].e - g.e));
+    let normal = |x: Dd| {
+        if x.hi.abs() < f64::MIN_POSITIVE {
+            Dd::ZERO
+        } else {
+            x
+        }
+    };
+    let sym = Symmetric {
+        axis: s,
+        rho,
+        nutation_rate: normal(nutation.ldexp(-rho).to_dd()),
+        m_dir,
+        body_rate: normal(body.ldexp(-rho).to_dd()),
+    };
+    (Regime::Symmetric { axis: s }, Motion::Symmetric(sym), rate)
+}
+
+/// An asymmetric body's motion in its canonical frame, before the separatrix and the
+/// elliptic regimes part: what both need.
+struct Asymmetric {
+    common: Common,
+    /// `Delta_2`: its sign is the regime, zero on the separatrix.
+    delta2: Xd,
+    /// The complementary parameter `m_c`.
+    mc_x: Xd,
+    /// `|L|`, its exponent `mu`, and the momenta in the canonical frame (exact products).
+    g: Xd,
+    mu: i32,
+    n: [Xd; 3],
+    /// The canonical momenta and the amplitudes `B1, B2`, in units of `2^mu`.
+    m: [Sd; 3],
+    b1: Sd,
+    b2: Sd,
+    i2: f64,
+    i3: f64,
+    s3: f64,
+    lambda: Xd,
+    nu_dd: Dd,
+    /// The largest precession rate.
+    phi_rate: Xd,
+    polar: usize,
+}
+
+impl Asymmetric {
+    /// The canonical frame of an asymmetric body (moments ascending at `order`), its
+    /// amplitudes, rates and the constants of the precession.
+    fn new(
+        moments: &Vector3<f64>,
+        omega0: &Vector3<f64>,
+        mx: &[Xd; 3],
+        q0: &UnitQuaternion<f64>,
+        order: [usize; 3],
+    ) -> Result<Self> {
+        let [lo, mid, hi] = order;
+        // Units: momenta 2^mu (about the largest |I_i w_i|), moments 2^iota (about the largest
+        // moment), both even powers; time 2^-rho, rho = mu - iota.
+        let mmax = mx
+            .iter()
+            .copied()
+            .fold(Xd::ZERO, |a, x| if a.abs_lt(x) { x.abs() } else { a });
+        let mu = even_exponent(mmax);
+        let iota = even_exponent(Xd::new(moments.max()));
+        let rho = mu - iota;
+        // The double products I_i w_i (rounded once), in units of 2^mu.
+        let mh = [0, 1, 2].map(|i| {
+            if omega0[i] == 0.0 {
+                Sd::new(moments[i] * omega0[i], 0) // a zero with its sign
+            } else {
+                Sd::new(mx[i].m.to_f64(), mx[i].e - mu)
+            }
+        });
+        let ih = |i: usize| Xd::new(moments[i]);
+        // Delta_2 = m_lo^2 (I_lo - I_mid)/I_lo + m_hi^2 (I_hi - I_mid)/I_hi
+        //         = I_lo w_lo^2 (I_lo - I_mid) + I_hi w_hi^2 (I_hi - I_mid), exactly: its sign
+        // is the regime and it is zero exactly on the separatrix.
+        let delta2 = exact_sum_a_b2_diff(&[
+            (moments[lo], omega0[lo], moments[lo], moments[mid]),
+            (moments[hi], omega0[hi], moments[hi], moments[mid]),
+        ]);
+        let (polar, other) = if delta2.is_negative() {
+            (lo, hi)
+        } else {
+            (hi, lo)
+        };
+        let frame = Frame::new([other, mid, polar]);
+        let mc3 = frame.to_canonical_sd(&mh);
+        let [i1, i2, i3] = frame.index.map(|i| moments[i]);
+        let ic = frame.index.map(|i| ih(i).to_sd(iota));
+        let [m1, m2, m3] = mc3;
+        let d21 = Xd::sum(i2, -i1);
+        let d31 = Xd::sum(i3, -i1);
+        let d32 = Xd::sum(i3, -i2);
+        let [n1, n2, n3] = [0, 1, 2].map(|i| mx[frame.index[i]]);
+        let sq = |x: Xd| x * x;
+        let delta1 = sq(n2) * d21 / i2 + sq(n3) * d31 / i3;
+        let mdelta3 = sq(n1) * d31 / i1 + sq(n2) * d32 / i2;
+        let g = (sq(n1) + sq(n2) + sq(n3)).sqrt();
+        let lambda = (delta1 * d32 / Xd::new(i1).mul_f64(i2).mul_f64(i3)).sqrt();
+        // Amplitudes, as hypotenuses (no cancellation, no overflow).
+        let r = |x: Xd| x.to_sd(0).sqrt();
+        let b1 = Sd::hypot(m1, m2.mul(r(Xd::new(i1) * d32 / d31.mul_f64(i2))));
+        let b2 = Sd::hypot(m1.mul(r(Xd::new(i2) * d31 / d32.mul_f64(i1))), m2);
+        let b3 = Sd::hypot(m2.mul(r(Xd::new(i3) * d21 / d31.mul_f64(i2))), m3);
+        let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+        let s3 = sign(m3.x);
+        // Euler polar axis: canonical axis 1 or 3, so that the other one, x, has 1/I_x
+        // closest to 1/I2: then phi' = G/I_x + G (1/I2 - 1/I_x) (weight in [0, 1]) has the
+        // smallest varying part (never more than a factor 2 of cancellation).
+        let polar_c1 = {
+            let [j1, j2, j3] = ic.map(|x| x.to_f64());
+            if ic.iter().all(|x| x.e == 0) {
+                (1.0 / j2 - 1.0 / j3).abs() <= (1.0 / j2 - 1.0 / j1).abs()
+            } else {
+                // |1/I2 - 1/I3| <= |1/I2 - 1/I1|  <=>  |I3 - I2| I1 <= |I2 - I1| I3.
+                !(d21.abs().mul_f64(i3)).abs_lt(d32.abs().mul_f64(i1))
+            }
+        };
+        let i_x = if polar_c1 { i3 } else { i1 };
+        let base_rate = g / i_x;
+        // C = G (1/I2 - 1/I_x) (B2/Bh)^2 / lambda and nu, Bh = B3 or B1.
+        let dxm = Xd::sum(i_x, -i2) / Xd::new(i2).mul_f64(i_x);
+        let (ratio, nu) = if polar_c1 {
+            // G^2 - m1^2 = B3^2 + B1^2 sn^2: nu = B1^2/B3^2 = I1 (-Delta3) / (I3 Delta1).
+            (
+                Xd::new(i2) * mdelta3 * d31 / (d32.mul_f64(i3) * delta1),
+                Xd::new(i1) * mdelta3 / delta1.mul_f64(i3),
+            )
+        } else {
+            // G^2 - m3^2 = B1^2 + m B3^2 sn^2: nu = m B3^2/B1^2 = I3 (I2 - I1) / (I1 (I3 - I2)).
+            (
+                Xd::new(i2) * d31 / d32.mul_f64(i1),
+                Xd::new(i3) * d21 / d32.mul_f64(i1),
+            )
+        };
+        let coef = g * dxm * ratio / lambda;
+        // The Euler frame: the canonical frame or its cyclic shift (2, 3, 1).
+        let euler_frame = if polar_c1 {
+            Frame {
+                index: [frame.index[1], frame.index[2], frame.index[0]],
+                sign: [frame.sign[1], frame.sign[2], frame.sign[0]],
+            }
+        } else {
+            frame
+        };
+        let q_e = euler_frame.quaternion();
+        let euler = if polar_c1 { [m2, m3, m1] } else { [m1, m2, m3] };
+        let (theta0, psi0) = theta_psi(euler);
+        let q_l = q0 * q_e * qz(-psi0) * qx(-theta0);
+        let nu_dd = nu.to_dd();
+        let lambda_dd = checked_dd(lambda.ldexp(-rho), "rates")?;
+        let base_dd = checked_dd(base_rate.ldexp(-rho), "rates")?;
+        let coef_dd = coef.to_dd();
+        if !(coef_dd.hi.is_finite() && nu_dd.hi.is_finite()) {
+            return Err(too_wide("rates"));
+        }
+        // The largest precession rate, |G/I_x| + |C| lambda / (1 + nu).
+        let phi_rate = base_rate.abs() + coef.abs() * lambda / (Xd::new(1.0) + nu);
+        let common = Common {
+            frame,
+            moments: ic,
+            b: [b1, b2, b3],
+            s: [sign(m1.x), s3 * sign(i3 - i2), s3],
+            rho,
+            lambda: lambda_dd,
+            u0: Dd::ZERO,
+            u0_q: 0,
+            euler_cyclic: polar_c1,
+            base_rate: base_dd,
+            coef: coef_dd,
+            nu: nu_dd.to_f64(),
+            nu_dd,
+            j0: Dd::ZERO,
+            q_l,
+            q_e_inv: q_e.inverse(),
+        };
+        let mc_x = delta2 * d31 / (delta1 * d32);
+        Ok(Self {
+            common,
+            delta2,
+            mc_x,
+            g,
+            mu,
+            n: [n1, n2, n3],
+            m: [m1, m2, m3],
+            b1,
+            b2,
+            i2,
+            i3,
+            s3,
+            lambda,
+            nu_dd,
+            phi_rate,
+            polar,
+        })
+    }
+
+    /// The separatrix (tanh/sech form).
+    fn separatrix(self) -> (Regime, Motion, Xd) {
+        let Self {
+            mut common,
+            g,
+            mu,
+            n: [n1, n2, n3],
+            i2,
+            i3,
+            s3,
+            phi_rate,
+            ..
+        } = self;
+        let frame = common.frame;
+        let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+        let sq = |x: Xd| x * x;
+        // Separatrix: s2 = s1 s3 sign(I3 - I2); e^u0 = (G + s2 m2) / hypot(m1, m3).
+        common.s[1] = common.s[0] * s3 * sign(i3 - i2);
+        common.b[1] = g.to_sd(mu);
+        let y = n2.mul_f64(common.s[1] * frame.sign[1]);
+        let h = (sq(n1) + sq(n3)).sqrt();
+        let e0 = if y.is_negative() {
+            h / (g - y)
+        } else {
+            (g + y) / h
+        };
+        let u0 = e0.ln();
+        common.u0 = u0;
+        let mut sep = Separatrix { c: common };
+        sep.c.j0 = sep.j(u0);
+        (
+            Regime::Separatrix,
+            Motion::Separatrix(Box::new(sep)),
+            phi_rate,
+        )
+    }
+
+    /// The elliptic regime: about the axis of the smallest or the largest moment.
+    fn elliptic(self) -> (Regime, Motion, Xd) {
+        let kp_x = self.mc_x.sqrt();
+        let mut ell = if kp_x.e >= -54 {
+            self.elliptic_functions(kp_x)
+        } else {
+            self.hyperbolic_functions(kp_x)
+        };
+        let Self {
+            m: [m1, m2, _],
+            b1,
+            b2,
+            lambda,
+            phi_rate,
+            polar,
+            ..
+        } = self;
+        if ell.functions == Functions::Corrected {
+            // One Newton step on u0 with the accurate functions (u0 from R_F is good to eps |u0|,
+            // which a decaying cn or dn would feel as a relative error): on cn where
+            // |cn| <= |sn| (well conditioned there, cn(K - v) = k' sd v), on sn elsewhere.
+            let c0 = m1.div(b1).to_f64();
+            let s0 = m2.mul_f64(ell.c.s[1]).div(b2).to_f64();
+            let (s, c, d, _, _) = ell.phase::<false>(ell.c.u(0.0));
+            let delta = if c0.abs() <= s0.abs() {
+                (c - c0) / (s * d)
+            } else {
+                (s0 - s) / (c * d)
+            };
+            ell.c.u0 = ell.c.u0 + delta;
+        }
+        ell.c.j0 = ell.phase::<true>(ell.c.u(0.0)).3;
+        // The fastest angle: the precession or the phase of omega, 2 pi lambda / 4K.
+        let omega_rate = (lambda * Xd::from_dd(Dd::TAU)) / Xd::from_dd(ell.k * 4.0);
+        let rate = if phi_rate.abs_lt(omega_rate) {
+            omega_rate
+        } else {
+            phi_rate
+        };
+        (
+            Regime::AboutAxis(polar),
+            Motion::Elliptic(Box::new(ell)),
+            rate,
+        )
+    }
+
+    /// The elliptic regime with `k' >= 2^-54`: Jacobi's functions of `m_c`.
+    fn elliptic_functions(&self, kp_x: Xd) -> Elliptic {
+        let mut common = self.common.clone();
+        let (mc_x, nu_dd, b1, b2) = (self.mc_x, self.nu_dd, self.b1, self.b2);
+        let [m1, m2, _] = self.m;
+        let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+        // Elliptic: the sign of m1 is carried by cn.
+        common.s[0] = 1.0;
+        let mc_dd = mc_x.to_dd();
+        let mc = mc_dd.to_f64();
+        let k = ellipk_dd(mc_dd);
+        let kp_dd = mc_dd.sqrt();
+        let [half, jc_quarter] = cel_many(
+            kp_dd,
+            nu_dd + 1.0,
+            [(Dd::ZERO, Dd::ONE), (Dd::ONE, Dd::ZERO)],
+        );
+        let j_half = half * 2.0;
+        // u0 from cn u0 = m1/B1, sn u0 = s2 m2/B2: u0 = F(am u0) = s R_F(c^2, c^2 + mc s^2, 1),
+        // reflected about K when cn < 0. In the outer half (c^2 < k'/(1 + k') = cn^2(K/2)),
+        // u0 = +-(K - v) with y = sd v = |c| / k' (cn(K - v) = k' sd v):
+        // v = y R_F(1 - c^2, 1, 1 + k^2 y^2) (DLMF 19.25.5 with sn^2 = y^2/(1 + k^2 y^2)), so
+        // that a small cn keeps its digits.
+        let c0 = m1.div(b1).to_f64().clamp(-1.0, 1.0);
+        let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
+        let kp = kp_dd.to_f64();
+        if c0 * c0 < kp / (1.0 + kp) {
+            let y = c0.abs() / kp;
+            let v = y * carlson_rf(1.0 - c0 * c0, 1.0, 1.0 + (1.0 - mc) * (y * y));
+            // u0 = sign(s0) (K -+ v), -+ as cn >= 0 or < 0.
+            common.u0_q = sign(s0) as i64;
+            common.u0 = Dd::new(v * -sign(s0) * sign(c0));
+        } else {
+            let f = s0 * carlson_rf(c0 * c0, c0 * c0 + mc * s0 * s0, 1.0);
+            common.u0 = if c0 >= 0.0 {
+                Dd::new(f)
+            } else {
+                k * (2.0 * sign(s0)) - f
+            };
+        }
+        let functions = if kp_x.e >= -27 {
+            Functions::Landen
+        } else {
+            Functions::Corrected
+        };
+        let theta = if functions == Functions::Landen {
+            ThetaJ::new(mc, k, common.nu, j_half)
+        } else {
+            None
+        };
+        Elliptic {
+            c: common,
+            mc,
+            kp,
+            kp_exp: 0,
+            functions,
+            theta,
+            landen: Landen::new(mc),
+            k,
+            inv_k: 1.0 / k.hi,
+            inv_k2: 0.5 / k.hi,
+            j_half,
+            jc_quarter,
+        }
+    }
+
+    /// The elliptic regime with `k' < 2^-54`: `K` by the AGM, the functions hyperbolic.
+    fn hyperbolic_functions(&self, kp_x: Xd) -> Elliptic {
+        let mut common = self.common.clone();
+        let (nu_dd, b1, b2) = (self.nu_dd, self.b1, self.b2);
+        let [m1, m2, _] = self.m;
+        let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+        // Elliptic: the sign of m1 is carried by cn.
+        common.s[0] = 1.0;
+        // k' < 2^-54: K = pi / (2 AGM((1 + k')/2, sqrt(k'))), the rest hyperbolic.
+        let kp = kp_x.to_sd(0);
+        let a1 = (Dd::ONE + kp_x.to_dd()) * 0.5;
+        let k = Dd::PI / (a1 * agm1(kp_x.sqrt().to_dd() / a1) * 2.0);
+        let jc_quarter = cel(
+            Dd::new(kp_x.to_f64().max(1e-300)),
+            nu_dd + 1.0,
+            Dd::ONE,
+            Dd::ZERO,
+        );
+        let j_half = (k - jc_quarter) * 2.0 / (nu_dd + 1.0);
+        let c0 = m1.div(b1);
+        let s0 = m2.mul_f64(common.s[1]).div(b2).to_f64().clamp(-1.0, 1.0);
+        let ca = Xd::new(c0.x.abs()).ldexp(c0.e);
+        if (ca * ca).abs_lt(kp_x) {
+            // Near u = K: cn(K - v) = k' sinh v; u0 = sign(s0) (K -+ v).
+            let v = asinh_xd(ca / kp_x);
+            common.u0_q = sign(s0) as i64;
+            common.u0 = v * (-sign(s0) * sign(c0.x));
+        } else {
+            // sinh u = sn / cn.
+            let f = asinh_xd(Xd::new(s0.abs()) / ca) * sign(s0);
+            if c0.x >= 0.0 {
+                common.u0 = f;
+            } else {
+                common.u0_q = 2 * sign(s0) as i64;
+                common.u0 = -f;
+            }
+        }
+        Elliptic {
+            c: common,
+            mc: 0.0,
+            kp: kp.x,
+            kp_exp: kp.e,
+            functions: Functions::Hyperbolic,
+            theta: None,
+            landen: Landen::new(1.0),
+            k,
+            inv_k: 1.0 / k.hi,
+            inv_k2: 0.5 / k.hi,
+            j_half,
+            jc_quarter,
         }
     }
 }

@@ -4,8 +4,8 @@
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::dynamics::Monitor;
 use crate::error::{finite, Error, Result};
+use crate::Monitor;
 
 /// Points per parallel chunk of [`point_masses_inertia`] (whole frames; at least one frame):
 /// the unit of parallel work and of the looks at the monitor.

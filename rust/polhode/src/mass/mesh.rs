@@ -21,9 +21,9 @@ use rayon::prelude::*;
 
 use super::factor::SecondMoment;
 use super::{out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
-use crate::dynamics::Monitor;
 use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
+use crate::Monitor;
 
 /// Triangles per parallel chunk of the integrals (a multiple of `LANES * BLOCK`): the chunks
 /// are fixed, whatever the number of threads.
@@ -512,23 +512,7 @@ impl MassProperties {
         fix_winding: bool,
         monitor: Option<&Monitor>,
     ) -> Result<Self> {
-        match (density, mass) {
-            (Some(d), None) => {
-                positive("density", d)?;
-            }
-            (None, Some(m)) => {
-                positive("mass", m)?;
-            }
-            (d, _) => {
-                return Err(invalid(
-                    if d.is_some() { "density" } else { "mass" },
-                    format!(
-                        "give exactly one of `density` and `mass`, got {}.",
-                        if d.is_some() { "both" } else { "neither" }
-                    ),
-                ))
-            }
-        }
+        check_density_or_mass(density, mass)?;
         check_input(vertices, faces, shell)?;
         let (closed, integrated) = rayon::join(
             || {
@@ -565,15 +549,7 @@ impl MassProperties {
             ));
         };
 
-        // In units of 2^k for lengths: volume 2^3k (area 2^2k), first moment one more k, second
-        // two more.
-        let mut t = sums.value();
-        if !t.iter().all(|x| x.is_finite()) {
-            return Err(invalid(
-                "vertices",
-                "the mesh integrals overflow double precision.".into(),
-            ));
-        }
+        let t = oriented_integrals(&sums, k, shell, fix_winding)?;
         // (weight -> measure, first, second) divisors: volume 6, 24, 120; area 2, 6, 24.
         let (d0, d1, d2) = if shell {
             (2.0, 6.0, 24.0)
@@ -581,40 +557,6 @@ impl MassProperties {
             (6.0, 24.0, 120.0)
         };
         let dimension = if shell { 2 } else { 3 };
-        let what = if shell { "area" } else { "volume" };
-        let shown = |x: f64| {
-            let v = ldexp(x, dimension * k);
-            if v.is_finite() && v != 0.0 {
-                format!("{v:e}")
-            } else {
-                scientific(x, dimension * k)
-            }
-        };
-        if t[0].abs() <= 64.0 * f64::EPSILON * sums.abs_weight || t[0] == 0.0 {
-            return Err(invalid(
-                "vertices",
-                format!(
-                    "the mesh is degenerate: its total {what} {} is zero to rounding.",
-                    shown(t[0] / d0)
-                ),
-            ));
-        }
-        if t[0] < 0.0 {
-            if !fix_winding {
-                return Err(invalid(
-                    "faces",
-                    format!(
-                        "the mesh is inside out (total volume {} < 0): its faces wind \
-                         clockwise seen from outside. Reverse every face (faces[:, ::-1]) or \
-                         pass fix_winding=True.",
-                        shown(t[0] / d0)
-                    ),
-                ));
-            }
-            for x in &mut t {
-                *x = -*x;
-            }
-        }
         let measure = t[0] / d0;
         let first = Vector3::new(t[1], t[2], t[3]) / d1;
         let q = |k: usize| t[k] / d2;
@@ -676,4 +618,79 @@ impl MassProperties {
         }
         .in_range(&blame(k)[..])
     }
+}
+
+/// Exactly one of `density` and `mass`, positive.
+fn check_density_or_mass(density: Option<f64>, mass: Option<f64>) -> Result<()> {
+    match (density, mass) {
+        (Some(d), None) => {
+            positive("density", d)?;
+        }
+        (None, Some(m)) => {
+            positive("mass", m)?;
+        }
+        (d, _) => {
+            return Err(invalid(
+                if d.is_some() { "density" } else { "mass" },
+                format!(
+                    "give exactly one of `density` and `mass`, got {}.",
+                    if d.is_some() { "both" } else { "neither" }
+                ),
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// The integrals of a mesh (`sums`, lengths in units of `2^k`) as values, the volume
+/// positive: an error for integrals that overflow, a degenerate mesh, or a mesh inside out
+/// (unless `fix_winding`, which turns it the right way out).
+fn oriented_integrals(sums: &Sums, k: i32, shell: bool, fix_winding: bool) -> Result<[f64; 10]> {
+    // In units of 2^k for lengths: volume 2^3k (area 2^2k), first moment one more k, second
+    // two more.
+    let mut t = sums.value();
+    if !t.iter().all(|x| x.is_finite()) {
+        return Err(invalid(
+            "vertices",
+            "the mesh integrals overflow double precision.".into(),
+        ));
+    }
+    // The weight's divisor: volume 6, area 2.
+    let d0 = if shell { 2.0 } else { 6.0 };
+    let dimension = if shell { 2 } else { 3 };
+    let what = if shell { "area" } else { "volume" };
+    let shown = |x: f64| {
+        let v = ldexp(x, dimension * k);
+        if v.is_finite() && v != 0.0 {
+            format!("{v:e}")
+        } else {
+            scientific(x, dimension * k)
+        }
+    };
+    if t[0].abs() <= 64.0 * f64::EPSILON * sums.abs_weight || t[0] == 0.0 {
+        return Err(invalid(
+            "vertices",
+            format!(
+                "the mesh is degenerate: its total {what} {} is zero to rounding.",
+                shown(t[0] / d0)
+            ),
+        ));
+    }
+    if t[0] < 0.0 {
+        if !fix_winding {
+            return Err(invalid(
+                "faces",
+                format!(
+                    "the mesh is inside out (total volume {} < 0): its faces wind \
+                         clockwise seen from outside. Reverse every face (faces[:, ::-1]) or \
+                         pass fix_winding=True.",
+                    shown(t[0] / d0)
+                ),
+            ));
+        }
+        for x in &mut t {
+            *x = -*x;
+        }
+    }
+    Ok(t)
 }

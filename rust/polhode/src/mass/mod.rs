@@ -29,6 +29,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::eigen::{self, ldexp, scientific, Principal, DEFAULT_RTOL};
 use crate::error::{finite, positive, Error, Result};
+use crate::settings::Setting;
 use factor::SecondMoment;
 
 /// A number as Python's `repr` would show it, roughly: positional between 1e-4 and 1e16,
@@ -93,7 +94,7 @@ fn largest(values: impl IntoIterator<Item = f64>) -> f64 {
 /// use polhode::MassProperties;
 /// // A 1 kg, 10 cm cube about one of its corners: moments m a^2 (1/6, 11/12, 11/12).
 /// let cube = MassProperties::cuboid(1.0, Vector3::new(0.1, 0.1, 0.1)).unwrap();
-/// let about_corner = cube.inertia_about(&Vector3::new(-0.05, -0.05, -0.05));
+/// let about_corner = cube.inertia_about(&Vector3::new(-0.05, -0.05, -0.05)).unwrap();
 /// let p = polhode::symmetric_eigen3(&about_corner).unwrap();
 /// assert!((p.moments[0] - 0.01 / 6.0).abs() < 1e-16);
 /// assert!((p.moments[2] - 0.01 * 11.0 / 12.0).abs() < 1e-16);
@@ -240,9 +241,17 @@ impl MassProperties {
     /// `I_p = I + M (|d|^2 1 - d d^T)` with `d` the centre of mass seen from `point`, each
     /// diagonal entry a sum of non-negative terms (`I_xx + M (d_y^2 + d_z^2)`), so that it is
     /// componentwise accurate like [`Self::inertia`].
-    pub fn inertia_about(&self, point: &Vector3<f64>) -> Matrix3<f64> {
-        let d = self.offset_of_center(point);
-        self.inertia() + parallel_axis(self.mass, &d)
+    ///
+    /// # Errors
+    /// A coordinate of `point` that is not finite (named `point[k]`), or a tensor beyond the
+    /// range of double precision (a point too far for the mass; named `point`).
+    pub fn inertia_about(&self, point: &Vector3<f64>) -> Result<Matrix3<f64>> {
+        finite_vector("point", point)?;
+        within_range(
+            "point",
+            "inertia tensor about `point`",
+            self.inertia_about_unchecked(point),
+        )
     }
 
     /// The inertia tensor about `point` in the axes given by the columns of `axes` (a rotation
@@ -252,17 +261,36 @@ impl MassProperties {
     /// tensor formed from them as in [`Self::inertia_about`]: in axes where a moment is small,
     /// it is small to the rounding of the rotated factor's entries (`|F A - fl(F A)|`), not to
     /// the rounding of the whole tensor.
-    pub fn inertia_about_in(&self, point: &Vector3<f64>, axes: &Matrix3<f64>) -> Matrix3<f64> {
+    ///
+    /// # Errors
+    /// As [`MassProperties::inertia_about`]; `axes` that are not a rotation (named `axes`).
+    pub fn inertia_about_in(
+        &self,
+        point: &Vector3<f64>,
+        axes: &Matrix3<f64>,
+    ) -> Result<Matrix3<f64>> {
+        finite_vector("point", point)?;
+        check_rotation("axes", axes)?;
         let (s, k) = self.second_moment.normalised();
         let centre = inertia_from_factor(s.isotropic, &(s.factor * axes)).map(|x| ldexp(x, 2 * k));
         let d = axes.transpose() * self.offset_of_center(point);
-        centre + parallel_axis(self.mass, &d)
+        within_range(
+            "point",
+            "inertia tensor about `point`",
+            centre + parallel_axis(self.mass, &d),
+        )
+    }
+
+    /// [`MassProperties::inertia_about`] without its checks (the caller makes its own).
+    pub(crate) fn inertia_about_unchecked(&self, point: &Vector3<f64>) -> Matrix3<f64> {
+        let d = self.offset_of_center(point);
+        self.inertia() + parallel_axis(self.mass, &d)
     }
 
     /// Principal moments (ascending) and axes about the centre of mass, with the default
     /// tolerance for equal moments.
     pub fn principal(&self) -> Principal {
-        self.principal_with(DEFAULT_RTOL)
+        self.principal_unchecked(DEFAULT_RTOL)
     }
 
     /// Principal moments and axes; moments whose gap is at most `rtol` times the anisotropic part
@@ -276,7 +304,16 @@ impl MassProperties {
     /// Computed in units of a power of two (exactly), so that bodies from 1e-300 to 1e300 keep
     /// every digit; a body built by this crate has moments within the range of double precision
     /// (its constructors check).
-    pub fn principal_with(&self, rtol: f64) -> Principal {
+    ///
+    /// # Errors
+    /// An `rtol` that is not finite and `>= 0` ([`Setting::MergeTolerance`], named `rtol`).
+    pub fn principal_with(&self, rtol: f64) -> Result<Principal> {
+        Setting::MergeTolerance.check("rtol", rtol)?;
+        Ok(self.principal_unchecked(rtol))
+    }
+
+    /// [`MassProperties::principal_with`] of a tolerance known to be valid.
+    fn principal_unchecked(&self, rtol: f64) -> Principal {
         let (mut p, k) = self.principal_scaled(rtol);
         p.moments = p.moments.map(|x| ldexp(x, k));
         p
@@ -400,8 +437,17 @@ impl MassProperties {
     }
 
     /// Angular momentum `L = I w` about the centre of mass, `omega` in body axes.
-    pub fn angular_momentum_body(&self, omega: &Vector3<f64>) -> Vector3<f64> {
-        self.inertia() * omega
+    ///
+    /// # Errors
+    /// A component of `omega` that is not finite (named `omega[k]`), or a momentum beyond the
+    /// range of double precision (named `omega`).
+    pub fn angular_momentum_body(&self, omega: &Vector3<f64>) -> Result<Vector3<f64>> {
+        finite_vector("omega", omega)?;
+        let l = self.inertia() * omega;
+        if !l.iter().all(|x| x.is_finite()) {
+            return Err(overflows("omega", "angular momentum"));
+        }
+        Ok(l)
     }
 
     /// Kinetic energy of rotation `T = w . I w / 2`.
@@ -410,13 +456,21 @@ impl MassProperties {
     /// moment's factor (`w . I w = sum_k |f_k|^2 |w|^2 - (f_k . w)^2` for `C = c 1 + F^T F`): a sum
     /// of non-negative terms, accurate to a few ulp even for a spin about a needle's axis, where
     /// `w . (I w)` kept only the rounding of the large moments.
-    pub fn kinetic_energy(&self, omega: &Vector3<f64>) -> f64 {
+    ///
+    /// # Errors
+    /// As [`MassProperties::angular_momentum_body`].
+    pub fn kinetic_energy(&self, omega: &Vector3<f64>) -> Result<f64> {
+        finite_vector("omega", omega)?;
         let (s, k) = self.second_moment.normalised();
         let mut sum = 2.0 * s.isotropic * omega.norm_squared();
         for row in s.factor.row_iter() {
             sum += row.transpose().cross(omega).norm_squared();
         }
-        0.5 * ldexp(sum, 2 * k)
+        let energy = 0.5 * ldexp(sum, 2 * k);
+        if !energy.is_finite() {
+            return Err(overflows("omega", "kinetic energy"));
+        }
+        Ok(energy)
     }
 
     /// The same body with every mass multiplied by `mass_scale` and every length by
@@ -523,6 +577,37 @@ fn check_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Checks that every component of `v` is finite, naming `name[k]`.
+fn finite_vector(name: &str, v: &Vector3<f64>) -> Result<()> {
+    for k in 0..3 {
+        if !v[k].is_finite() {
+            finite(&format!("{name}[{k}]"), v[k])?;
+        }
+    }
+    Ok(())
+}
+
+/// The error of a result (`what`, of the argument `name`) beyond the range of double
+/// precision.
+fn overflows(name: &str, what: &str) -> Error {
+    Error::InvalidArgument {
+        name: name.into(),
+        reason: format!(
+            "the {what} overflows double precision (beyond the largest double, {:e}).",
+            f64::MAX
+        ),
+    }
+}
+
+/// `m` if every entry is finite, else the error of [`overflows`].
+fn within_range(name: &str, what: &str, m: Matrix3<f64>) -> Result<Matrix3<f64>> {
+    if m.iter().all(|x| x.is_finite()) {
+        Ok(m)
+    } else {
+        Err(overflows(name, what))
+    }
 }
 
 /// A proper rotation: finite, orthogonal and with det = +1, each to `1e-9` (a rotation typed

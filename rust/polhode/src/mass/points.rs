@@ -5,9 +5,9 @@ use rayon::prelude::*;
 
 use super::factor::{RowAccumulator, SecondMoment};
 use super::MassProperties;
-use crate::dynamics::Monitor;
 use crate::eigen::{exponent, ldexp};
 use crate::error::{finite, Error, Result};
+use crate::Monitor;
 
 /// Points per parallel chunk: each chunk is factored on its own and the factors combined, in
 /// order. Fixed, so that the result does not depend on the number of threads.
@@ -153,61 +153,8 @@ impl MassProperties {
         // as the reference plus the weighted mean of the rounded offsets, so a point's row
         // carries the rounding of its offset, eps |r_i - reference|, times sqrt(m_i): about the
         // first point, a mass of 1e130 beside one of 1 made I 7.7e96 instead of 0.81.
-        let weight = |m: f64| if m.is_finite() { m } else { f64::NEG_INFINITY };
-        let heaviest_at = masses
-            .par_iter()
-            .enumerate()
-            .map(|(i, &m)| (weight(m), i))
-            .reduce(
-                || (f64::NEG_INFINITY, usize::MAX),
-                |x, y| {
-                    if y.0 > x.0 || (y.0 == x.0 && y.1 < x.1) {
-                        y
-                    } else {
-                        x
-                    }
-                },
-            )
-            .1
-            .min(positions.len() - 1);
-        let reference: Vector3<f64> = positions[heaviest_at].into();
-        // Pass 1, per chunk: the first bad value; the mass and first moment about the
-        // reference, unscaled; the largest mass and offset (the scales if a second pass is
-        // needed).
-        let scans: Vec<Result<Scan>> = masses
-            .par_chunks(CHUNK)
-            .zip(positions.par_chunks(CHUNK))
-            .enumerate()
-            .map(|(chunk, (m, r))| {
-                look()?;
-                let mut scan = Scan::default();
-                for (j, (&mi, &ri)) in m.iter().zip(r).enumerate() {
-                    let ri: Vector3<f64> = ri.into();
-                    if !(mi.is_finite()
-                        && mi > 0.0
-                        && ri[0].is_finite()
-                        && ri[1].is_finite()
-                        && ri[2].is_finite())
-                    {
-                        return Err(bad_point(chunk * CHUNK + j, mi, &ri));
-                    }
-                    let d = ri - reference;
-                    scan.mass += mi;
-                    scan.first += d * mi;
-                    scan.heaviest = scan.heaviest.max(mi);
-                    scan.farthest = scan.farthest.max(d.amax());
-                }
-                Ok(scan)
-            })
-            .collect();
-        let mut total = Scan::default();
-        for scan in scans {
-            let scan = scan?;
-            total.mass += scan.mass;
-            total.first += scan.first;
-            total.heaviest = total.heaviest.max(scan.heaviest);
-            total.farthest = total.farthest.max(scan.farthest);
-        }
+        let reference: Vector3<f64> = positions[heaviest(masses).min(positions.len() - 1)].into();
+        let total = scan(masses, positions, &reference, &look)?;
         let (heaviest, farthest) = (total.heaviest, total.farthest);
         if !farthest.is_finite() {
             // Offsets beyond the range of double precision: the moments overflow.
@@ -230,28 +177,7 @@ impl MassProperties {
         let (mass, first_moment) = if (a, b) == (0, 0) {
             (total.mass, total.first)
         } else {
-            // Pass 2, per chunk: the same sums, scaled, added in order.
-            let sums: Vec<Result<(f64, Vector3<f64>)>> = masses
-                .par_chunks(CHUNK)
-                .zip(positions.par_chunks(CHUNK))
-                .map(|(m, r)| {
-                    look()?;
-                    Ok(m.iter()
-                        .zip(r)
-                        .fold((0.0, Vector3::zeros()), |(sm, sr), (&mi, ri)| {
-                            let mi = ldexp(mi, -a);
-                            let di = ((*ri).into() - reference).map(|x| ldexp(x, -b));
-                            (sm + mi, sr + di * mi)
-                        }))
-                })
-                .collect();
-            let (mut mass, mut first_moment) = (0.0, Vector3::zeros());
-            for sum in sums {
-                let (m, r) = sum?;
-                mass += m;
-                first_moment += r;
-            }
-            (mass, first_moment)
+            scaled_sums(masses, positions, &reference, (a, b), &look)?
         };
         let offset = (first_moment / mass).map(|x| ldexp(x, b));
         let mass = ldexp(mass, a);
@@ -272,33 +198,8 @@ impl MassProperties {
         );
         // Pass 3, per chunk: the factor of the centred rows sqrt(m_i) (r_i - r_cm), in units of
         // 2^(a/2 + b); the chunks' factors are then folded in order.
-        let factors: Vec<Result<Matrix3<f64>>> = masses
-            .par_chunks(CHUNK)
-            .zip(positions.par_chunks(CHUNK))
-            .map(|(m, r)| {
-                look()?;
-                let mut acc = RowAccumulator::new();
-                if (a, b) == (0, 0) {
-                    for (&mi, ri) in m.iter().zip(r) {
-                        let ri: Vector3<f64> = (*ri).into();
-                        let d = ((ri - scaled_center) - scaled_low) * mi.sqrt();
-                        acc.push([d[0], d[1], d[2]]);
-                    }
-                } else {
-                    for (&mi, ri) in m.iter().zip(r) {
-                        let ri: Vector3<f64> = (*ri).into();
-                        let d = (ri.map(|x| ldexp(x, -b)) - scaled_center) - scaled_low;
-                        let d = d * ldexp(mi, -a).sqrt();
-                        acc.push([d[0], d[1], d[2]]);
-                    }
-                }
-                Ok(acc.finish())
-            })
-            .collect();
-        let mut acc = RowAccumulator::new();
-        for factor in factors {
-            acc.push_matrix(&factor?);
-        }
+        let centre = (&scaled_center, &scaled_low);
+        let acc = centred_factor(masses, positions, centre, (a, b), &look)?;
         let factor = acc.finish().map(|x| ldexp(x, a / 2 + b));
         Self {
             mass,
@@ -658,7 +559,6 @@ fn gram_schmidt_chunk<P>(
 where
     P: Copy + Into<Vector3<f64>>,
 {
-    const L: usize = SUM_LANES;
     // Rows 0..n: the block's points; n..n + 3: the rows of R; n + 3: the parallel-axis row.
     let mut cols = [[0.0f64; QR_BLOCK + 4]; 3];
     let mut weight = [0.0f64; QR_BLOCK + 4];
@@ -677,43 +577,7 @@ where
         }
         weight[..n].copy_from_slice(mb);
         // Its mass and first moments, largest and smallest mass, largest offset.
-        let mut s0 = [0.0f64; L];
-        let mut s1 = [[0.0f64; L]; 3];
-        let mut heaviest = [0.0f64; L];
-        let mut lightest = [f64::INFINITY; L];
-        let mut farthest = [0.0f64; L];
-        {
-            let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) =
-                in_blocks::<L>(&cols, &weight, n);
-            for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
-                for l in 0..L {
-                    s0[l] += m[l];
-                    s1[0][l] += m[l] * x[l];
-                    s1[1][l] += m[l] * y[l];
-                    s1[2][l] += m[l] * z[l];
-                    heaviest[l] = fast_max(heaviest[l], m[l]);
-                    lightest[l] = fast_min(lightest[l], m[l]);
-                    let far = fast_max(fast_max(x[l].abs(), y[l].abs()), z[l].abs());
-                    farthest[l] = fast_max(farthest[l], far);
-                }
-            }
-            for (l, (((x, y), z), m)) in x_rest
-                .iter()
-                .zip(y_rest)
-                .zip(z_rest)
-                .zip(m_rest)
-                .enumerate()
-            {
-                s0[l] += m;
-                s1[0][l] += m * x;
-                s1[1][l] += m * y;
-                s1[2][l] += m * z;
-                heaviest[l] = fast_max(heaviest[l], *m);
-                lightest[l] = fast_min(lightest[l], *m);
-                let far = fast_max(fast_max(x.abs(), y.abs()), z.abs());
-                farthest[l] = fast_max(farthest[l], far);
-            }
-        }
+        let (s0, s1, heaviest, lightest, farthest) = block_sums(&cols, &weight, n);
         let block_mass: f64 = s0.iter().sum();
         let block_first: [f64; 3] = std::array::from_fn(|k| s1[k].iter().sum());
         // Every mass finite and positive and every offset finite (a NaN or an infinity reaches
@@ -746,40 +610,7 @@ where
                 *x -= centre[k];
             }
         }
-        let mut g0 = [[0.0f64; L]; 3];
-        let mut top = [0.0f64; L];
-        {
-            let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) =
-                in_blocks::<L>(&cols, &weight, rows);
-            for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
-                let ma: [f64; L] = std::array::from_fn(|l| m[l] * x[l]);
-                for l in 0..L {
-                    let t = ma[l] * x[l];
-                    g0[0][l] += t;
-                    top[l] = fast_max(top[l], t);
-                }
-                for l in 0..L {
-                    g0[1][l] += ma[l] * y[l];
-                }
-                for l in 0..L {
-                    g0[2][l] += ma[l] * z[l];
-                }
-            }
-            for (l, (((x, y), z), m)) in x_rest
-                .iter()
-                .zip(y_rest)
-                .zip(z_rest)
-                .zip(m_rest)
-                .enumerate()
-            {
-                let ma = m * x;
-                let t = ma * x;
-                g0[0][l] += t;
-                g0[1][l] += ma * y;
-                g0[2][l] += ma * z;
-                top[l] = fast_max(top[l], t);
-            }
-        }
+        let (g0, top) = first_products(&cols, &weight, rows);
         let g0: [f64; 3] = std::array::from_fn(|k| g0[k].iter().sum());
         if !pivot_safe(g0[0], lanes_max(&top), &cols[0][..rows]) {
             return None;
@@ -804,32 +635,7 @@ where
                 *z -= f2 * x;
             }
         }
-        let mut g1 = [[0.0f64; L]; 2];
-        let mut top = [0.0f64; L];
-        {
-            let [_, c1, c2] = &cols;
-            let (y8, y_rest) = c1[..rows].as_chunks::<L>();
-            let (z8, z_rest) = c2[..rows].as_chunks::<L>();
-            let (m8, m_rest) = weight[..rows].as_chunks::<L>();
-            for ((y, z), m) in y8.iter().zip(z8).zip(m8) {
-                let mb: [f64; L] = std::array::from_fn(|l| m[l] * y[l]);
-                for l in 0..L {
-                    let t = mb[l] * y[l];
-                    g1[0][l] += t;
-                    top[l] = fast_max(top[l], t);
-                }
-                for l in 0..L {
-                    g1[1][l] += mb[l] * z[l];
-                }
-            }
-            for (l, ((y, z), m)) in y_rest.iter().zip(z_rest).zip(m_rest).enumerate() {
-                let mb = m * y;
-                let t = mb * y;
-                g1[0][l] += t;
-                g1[1][l] += mb * z;
-                top[l] = fast_max(top[l], t);
-            }
-        }
+        let (g1, top) = second_products(&cols, &weight, rows);
         let g1: [f64; 2] = std::array::from_fn(|k| g1[k].iter().sum());
         if !pivot_safe(g1[0], lanes_max(&top), &cols[1][..rows]) {
             return None;
@@ -841,30 +647,7 @@ where
             ([0.0; 2], 0.0)
         };
         // Project the second column out of the third; its norm.
-        let mut g2 = [0.0f64; L];
-        let mut top = [0.0f64; L];
-        {
-            let [_, c1, c2] = &mut cols;
-            let (y8, y_rest) = c1[..rows].as_chunks::<L>();
-            let (z8, z_rest) = c2[..rows].as_chunks_mut::<L>();
-            let (m8, m_rest) = weight[..rows].as_chunks::<L>();
-            for ((y, z), m) in y8.iter().zip(z8).zip(m8) {
-                for l in 0..L {
-                    let e = z[l] - f * y[l];
-                    z[l] = e;
-                    let t = m[l] * e * e;
-                    g2[l] += t;
-                    top[l] = fast_max(top[l], t);
-                }
-            }
-            for (l, ((y, z), m)) in y_rest.iter().zip(z_rest).zip(m_rest).enumerate() {
-                let e = *z - f * y;
-                *z = e;
-                let t = m * e * e;
-                g2[l] += t;
-                top[l] = fast_max(top[l], t);
-            }
-        }
+        let (g2, top) = third_norm(&mut cols, &weight, rows, f);
         let g2: f64 = g2.iter().sum();
         if !pivot_safe(g2, lanes_max(&top), &cols[2][..rows]) {
             return None;
@@ -880,6 +663,328 @@ where
         [0.0, 0.0, 0.0, r[2][2]],
     ];
     Some((scan, factor))
+}
+
+/// The index of the heaviest point (the first of equal ones; a mass that is not finite is
+/// lightest): the reference the offsets are taken from.
+fn heaviest(masses: &[f64]) -> usize {
+    let weight = |m: f64| if m.is_finite() { m } else { f64::NEG_INFINITY };
+    masses
+        .par_iter()
+        .enumerate()
+        .map(|(i, &m)| (weight(m), i))
+        .reduce(
+            || (f64::NEG_INFINITY, usize::MAX),
+            |x, y| {
+                if y.0 > x.0 || (y.0 == x.0 && y.1 < x.1) {
+                    y
+                } else {
+                    x
+                }
+            },
+        )
+        .1
+}
+
+/// Pass 1 of the point masses, per chunk: the first bad value; the mass and first moment
+/// about `reference`, unscaled; the largest mass and offset (the scales if a second pass is
+/// needed); the chunks' added in order.
+fn scan<P>(
+    masses: &[f64],
+    positions: &[P],
+    reference: &Vector3<f64>,
+    look: &(dyn Fn() -> Result<()> + Sync),
+) -> Result<Scan>
+where
+    P: Copy + Sync + Into<Vector3<f64>>,
+{
+    let scans: Vec<Result<Scan>> = masses
+        .par_chunks(CHUNK)
+        .zip(positions.par_chunks(CHUNK))
+        .enumerate()
+        .map(|(chunk, (m, r))| {
+            look()?;
+            let mut scan = Scan::default();
+            for (j, (&mi, &ri)) in m.iter().zip(r).enumerate() {
+                let ri: Vector3<f64> = ri.into();
+                if !(mi.is_finite()
+                    && mi > 0.0
+                    && ri[0].is_finite()
+                    && ri[1].is_finite()
+                    && ri[2].is_finite())
+                {
+                    return Err(bad_point(chunk * CHUNK + j, mi, &ri));
+                }
+                let d = ri - reference;
+                scan.mass += mi;
+                scan.first += d * mi;
+                scan.heaviest = scan.heaviest.max(mi);
+                scan.farthest = scan.farthest.max(d.amax());
+            }
+            Ok(scan)
+        })
+        .collect();
+    let mut total = Scan::default();
+    for scan in scans {
+        let scan = scan?;
+        total.mass += scan.mass;
+        total.first += scan.first;
+        total.heaviest = total.heaviest.max(scan.heaviest);
+        total.farthest = total.farthest.max(scan.farthest);
+    }
+    Ok(total)
+}
+
+/// Pass 2 of the point masses, per chunk: the mass and first moment about `reference` with the
+/// masses in units of `2^a` and the offsets in units of `2^b`, the chunks' added in order.
+fn scaled_sums<P>(
+    masses: &[f64],
+    positions: &[P],
+    reference: &Vector3<f64>,
+    (a, b): (i32, i32),
+    look: &(dyn Fn() -> Result<()> + Sync),
+) -> Result<(f64, Vector3<f64>)>
+where
+    P: Copy + Sync + Into<Vector3<f64>>,
+{
+    // Pass 2, per chunk: the same sums, scaled, added in order.
+    let sums: Vec<Result<(f64, Vector3<f64>)>> = masses
+        .par_chunks(CHUNK)
+        .zip(positions.par_chunks(CHUNK))
+        .map(|(m, r)| {
+            look()?;
+            Ok(m.iter()
+                .zip(r)
+                .fold((0.0, Vector3::zeros()), |(sm, sr), (&mi, ri)| {
+                    let mi = ldexp(mi, -a);
+                    let di = ((*ri).into() - reference).map(|x| ldexp(x, -b));
+                    (sm + mi, sr + di * mi)
+                }))
+        })
+        .collect();
+    let (mut mass, mut first_moment) = (0.0, Vector3::zeros());
+    for sum in sums {
+        let (m, r) = sum?;
+        mass += m;
+        first_moment += r;
+    }
+    Ok((mass, first_moment))
+}
+
+/// Pass 3 of the point masses, per chunk: the factor of the centred rows
+/// `sqrt(m_i) (r_i - r_cm)` in units of `2^(a/2 + b)` (`r_cm` in units of `2^b`, as a
+/// double-double), the chunks' factors folded in order.
+fn centred_factor<P>(
+    masses: &[f64],
+    positions: &[P],
+    (scaled_center, scaled_low): (&Vector3<f64>, &Vector3<f64>),
+    (a, b): (i32, i32),
+    look: &(dyn Fn() -> Result<()> + Sync),
+) -> Result<RowAccumulator>
+where
+    P: Copy + Sync + Into<Vector3<f64>>,
+{
+    let factors: Vec<Result<Matrix3<f64>>> = masses
+        .par_chunks(CHUNK)
+        .zip(positions.par_chunks(CHUNK))
+        .map(|(m, r)| {
+            look()?;
+            let mut acc = RowAccumulator::new();
+            if (a, b) == (0, 0) {
+                for (&mi, ri) in m.iter().zip(r) {
+                    let ri: Vector3<f64> = (*ri).into();
+                    let d = ((ri - scaled_center) - scaled_low) * mi.sqrt();
+                    acc.push([d[0], d[1], d[2]]);
+                }
+            } else {
+                for (&mi, ri) in m.iter().zip(r) {
+                    let ri: Vector3<f64> = (*ri).into();
+                    let d = (ri.map(|x| ldexp(x, -b)) - scaled_center) - scaled_low;
+                    let d = d * ldexp(mi, -a).sqrt();
+                    acc.push([d[0], d[1], d[2]]);
+                }
+            }
+            Ok(acc.finish())
+        })
+        .collect();
+    let mut acc = RowAccumulator::new();
+    for factor in factors {
+        acc.push_matrix(&factor?);
+    }
+    Ok(acc)
+}
+
+/// The lanes of [`gram_schmidt_chunk`]'s sums.
+type Lanes = [f64; SUM_LANES];
+
+/// A block's mass and first moments, largest and smallest mass, largest offset, in
+/// [`SUM_LANES`] lanes (of the first `n` rows of `cols` and `weight`).
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn block_sums(
+    cols: &[[f64; QR_BLOCK + 4]; 3],
+    weight: &[f64; QR_BLOCK + 4],
+    n: usize,
+) -> (Lanes, [Lanes; 3], Lanes, Lanes, Lanes) {
+    const L: usize = SUM_LANES;
+    let mut s0 = [0.0f64; L];
+    let mut s1 = [[0.0f64; L]; 3];
+    let mut heaviest = [0.0f64; L];
+    let mut lightest = [f64::INFINITY; L];
+    let mut farthest = [0.0f64; L];
+    {
+        let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) = in_blocks::<L>(cols, weight, n);
+        for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
+            for l in 0..L {
+                s0[l] += m[l];
+                s1[0][l] += m[l] * x[l];
+                s1[1][l] += m[l] * y[l];
+                s1[2][l] += m[l] * z[l];
+                heaviest[l] = fast_max(heaviest[l], m[l]);
+                lightest[l] = fast_min(lightest[l], m[l]);
+                let far = fast_max(fast_max(x[l].abs(), y[l].abs()), z[l].abs());
+                farthest[l] = fast_max(farthest[l], far);
+            }
+        }
+        for (l, (((x, y), z), m)) in x_rest
+            .iter()
+            .zip(y_rest)
+            .zip(z_rest)
+            .zip(m_rest)
+            .enumerate()
+        {
+            s0[l] += m;
+            s1[0][l] += m * x;
+            s1[1][l] += m * y;
+            s1[2][l] += m * z;
+            heaviest[l] = fast_max(heaviest[l], *m);
+            lightest[l] = fast_min(lightest[l], *m);
+            let far = fast_max(fast_max(x.abs(), y.abs()), z.abs());
+            farthest[l] = fast_max(farthest[l], far);
+        }
+    }
+    (s0, s1, heaviest, lightest, farthest)
+}
+
+/// The first column's weighted products with each column, and the largest of its terms, in
+/// lanes (of the first `rows` rows).
+#[inline(always)]
+fn first_products(
+    cols: &[[f64; QR_BLOCK + 4]; 3],
+    weight: &[f64; QR_BLOCK + 4],
+    rows: usize,
+) -> ([Lanes; 3], Lanes) {
+    const L: usize = SUM_LANES;
+    let mut g0 = [[0.0f64; L]; 3];
+    let mut top = [0.0f64; L];
+    {
+        let ([x8, y8, z8, m8], [x_rest, y_rest, z_rest, m_rest]) =
+            in_blocks::<L>(cols, weight, rows);
+        for (((x, y), z), m) in x8.iter().zip(y8).zip(z8).zip(m8) {
+            let ma: [f64; L] = std::array::from_fn(|l| m[l] * x[l]);
+            for l in 0..L {
+                let t = ma[l] * x[l];
+                g0[0][l] += t;
+                top[l] = fast_max(top[l], t);
+            }
+            for l in 0..L {
+                g0[1][l] += ma[l] * y[l];
+            }
+            for l in 0..L {
+                g0[2][l] += ma[l] * z[l];
+            }
+        }
+        for (l, (((x, y), z), m)) in x_rest
+            .iter()
+            .zip(y_rest)
+            .zip(z_rest)
+            .zip(m_rest)
+            .enumerate()
+        {
+            let ma = m * x;
+            let t = ma * x;
+            g0[0][l] += t;
+            g0[1][l] += ma * y;
+            g0[2][l] += ma * z;
+            top[l] = fast_max(top[l], t);
+        }
+    }
+    (g0, top)
+}
+
+/// The second column's weighted products with the second and third, and the largest of its
+/// terms, in lanes.
+#[inline(always)]
+fn second_products(
+    cols: &[[f64; QR_BLOCK + 4]; 3],
+    weight: &[f64; QR_BLOCK + 4],
+    rows: usize,
+) -> ([Lanes; 2], Lanes) {
+    const L: usize = SUM_LANES;
+    let mut g1 = [[0.0f64; L]; 2];
+    let mut top = [0.0f64; L];
+    {
+        let [_, c1, c2] = &cols;
+        let (y8, y_rest) = c1[..rows].as_chunks::<L>();
+        let (z8, z_rest) = c2[..rows].as_chunks::<L>();
+        let (m8, m_rest) = weight[..rows].as_chunks::<L>();
+        for ((y, z), m) in y8.iter().zip(z8).zip(m8) {
+            let mb: [f64; L] = std::array::from_fn(|l| m[l] * y[l]);
+            for l in 0..L {
+                let t = mb[l] * y[l];
+                g1[0][l] += t;
+                top[l] = fast_max(top[l], t);
+            }
+            for l in 0..L {
+                g1[1][l] += mb[l] * z[l];
+            }
+        }
+        for (l, ((y, z), m)) in y_rest.iter().zip(z_rest).zip(m_rest).enumerate() {
+            let mb = m * y;
+            let t = mb * y;
+            g1[0][l] += t;
+            g1[1][l] += mb * z;
+            top[l] = fast_max(top[l], t);
+        }
+    }
+    (g1, top)
+}
+
+/// Projects the second column (times `f`) out of the third; its weighted norm and largest
+/// term, in lanes.
+#[inline(always)]
+fn third_norm(
+    cols: &mut [[f64; QR_BLOCK + 4]; 3],
+    weight: &[f64; QR_BLOCK + 4],
+    rows: usize,
+    f: f64,
+) -> (Lanes, Lanes) {
+    const L: usize = SUM_LANES;
+    let mut g2 = [0.0f64; L];
+    let mut top = [0.0f64; L];
+    {
+        let [_, c1, c2] = cols;
+        let (y8, y_rest) = c1[..rows].as_chunks::<L>();
+        let (z8, z_rest) = c2[..rows].as_chunks_mut::<L>();
+        let (m8, m_rest) = weight[..rows].as_chunks::<L>();
+        for ((y, z), m) in y8.iter().zip(z8).zip(m8) {
+            for l in 0..L {
+                let e = z[l] - f * y[l];
+                z[l] = e;
+                let t = m[l] * e * e;
+                g2[l] += t;
+                top[l] = fast_max(top[l], t);
+            }
+        }
+        for (l, ((y, z), m)) in y_rest.iter().zip(z_rest).zip(m_rest).enumerate() {
+            let e = *z - f * y;
+            *z = e;
+            let t = m * e * e;
+            g2[l] += t;
+            top[l] = fast_max(top[l], t);
+        }
+    }
+    (g2, top)
 }
 
 /// One chunk's sums about the first point, unscaled, and its largest mass and offset.

@@ -33,7 +33,7 @@
 use rayon::prelude::*;
 
 use super::mesh::{invalid, look, MESH_CHUNK};
-use crate::dynamics::Monitor;
+use crate::Monitor;
 use crate::eigen::ldexp;
 use crate::error::Result;
 

@@ -1,12 +1,13 @@
-//! Progress and cancellation of running integrations: the public [`Monitor`], and each run's
-//! reports to it.
+//! Progress and cancellation of long computations (integrations, and the mass properties and
+//! eigensolves of large inputs): the public [`Monitor`], and each run's reports to it.
 
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use crate::{Error, Result};
 
-/// Progress and cancellation shared with running integrations (see [`super::Options::monitor`]).
+/// Progress and cancellation shared with running computations: integrations (see
+/// [`crate::dynamics::Options::monitor`]) and the chunked mass-property and eigensolve batches.
 ///
 /// The integration loops look at it only every [`Monitor::CHECK_EVERY`] steps (or evaluations
 /// of the vector field for `Dop853`, or 256 output times for `Exact`), so that watching costs
@@ -20,8 +21,8 @@ use crate::{Error, Result};
 ///
 /// ```
 /// use nalgebra::Vector3;
-/// use polhode::dynamics::{integrate, Method, Monitor, Options, State};
-/// use polhode::Error;
+/// use polhode::dynamics::{integrate, Method, Options, State};
+/// use polhode::{Error, Monitor};
 ///
 /// // A 2 kg m^2 / 3 / 4 body spinning at 1 rad/s, for 100 s in steps of 10 ms.
 /// let moments = Vector3::new(2.0, 3.0, 4.0);
