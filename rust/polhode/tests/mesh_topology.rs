@@ -3,8 +3,8 @@
 //! real gaps (kept), and what the error says about an opening.
 
 use nalgebra::Matrix3;
-use polhode::Monitor;
 use polhode::mass::{merge_vertices, weld_tolerance, MESH_CHUNK, WELD_EXPONENT};
+use polhode::Monitor;
 use polhode::{Error, MassProperties};
 
 type Mesh = (Vec<[f64; 3]>, Vec<[i64; 3]>);

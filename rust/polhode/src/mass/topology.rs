@@ -33,9 +33,9 @@
 use rayon::prelude::*;
 
 use super::mesh::{invalid, look, MESH_CHUNK};
-use crate::Monitor;
 use crate::eigen::ldexp;
 use crate::error::Result;
+use crate::Monitor;
 
 /// log2 of the tolerance (relative to the bounding-box diagonal) within which vertices are one
 /// vertex for the closedness check.
