@@ -1941,6 +1941,12 @@ val(area, "masked fields with nothing masked",
     lambda: INV.relative_drift(trajectory_like(masked(_E, [0, 0, 0]), _LB)),
     keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0]}),
     "the data of an unmasked masked array")
+for _k in (1000, -1000):  # |L|^2 beyond doubles: the norms overflowed, or underflowed to 0
+    val(area, f"relative_drift of given fields times 2^{_k}",
+        lambda k=_k: INV.relative_drift(trajectory_like(*(np.ldexp(x, k) for x in (_E, _LB, _LS)))),
+        keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0],
+                     "angular_momentum_space": [0.0, 0.0, 1.0]}),
+        "exact quotients (the power of two cancels)")
 
 # --- numbers beyond double precision, masked arrays: every way arrays and numbers come in ------
 
@@ -2294,6 +2300,15 @@ val(area, "a diagonal tensor as the body", lambda: ph.analyze(np.diag([3.0, 1.0,
     lambda a: (assert_true(a.regime == "steady_intermediate", a.regime),
                close(a.energy, 1.0, 0.0), close(a.angular_momentum_norm, 2.0, 0.0)),
     "a spin about z, I_zz = 2 the intermediate moment: steady, T = 1, |L| = 2")
+# At the ends of double precision: products of two moments of 2^+-1000 are beyond doubles
+# (turns_over was False at 2^1000, a ZeroDivisionError at 2^-1000); the motion does not depend
+# on the scale of the moments.
+for _k in (1000, -1000):
+    _SCALED = tuple(math.ldexp(x, _k) for x in M123)
+    val(area, f"moments 2^{_k} [1, 2, 3] that turn over",
+        lambda m=_SCALED: ph.analyze(m, [0.1, 1.0, 0.2]),
+        analysis_check(_SCALED, [0.1, 1.0, 0.2]),
+        "exact invariants, turns_over_exact and exact_period in rationals (any scale)")
 
 # --- perturbation: argument types and masked arrays ---------------------------------------------
 

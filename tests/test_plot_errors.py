@@ -527,6 +527,134 @@ err("scene/path=5", lambda: SCENE(bar_traj(), bar(), frames=2, path=5), TypeErro
 
 
 # ---------------------------------------------------------------------------------------------
+# At the ends of double precision: trajectories of moments 2^+-1000 [1, 2, 3] (their squares,
+# L^2 and |L|'s own, are beyond doubles), huge and tiny |L|, directions, hints and rates. The
+# reference of a drawing there is the equation it must satisfy, in units of that power of two
+# (exact), or the rationals of the motion (which do not depend on the scale).
+# ---------------------------------------------------------------------------------------------
+
+SCALE = 1000  # the trajectories at the ends: moments 2^+-SCALE [1, 2, 3]
+
+
+def scaled_traj(k):
+    """The motion of the moments 2^k [1, 2, 3] from OMEGA0 (omega does not depend on k)."""
+    return cached(f"scaled_traj{k}",
+                  lambda: ph.simulate(np.ldexp(MOMENTS, k), OMEGA0, TIMES))
+
+
+def on_the_polhode(points, moments, ell, energy, k):
+    """Every point on the sphere |L| = ell and the ellipsoid sum L_i^2 / I_i = 2 T, checked in
+    units of 2^k (exact): the equations of the polhode."""
+    u = np.ldexp(np.asarray(points, dtype=float), -k)
+    m = np.ldexp(np.asarray(moments, dtype=float), -k)
+    np.testing.assert_allclose(np.sqrt(np.sum(u * u, axis=-1)), math.ldexp(ell, -k), rtol=1e-12)
+    np.testing.assert_allclose(np.sum(u * u / m, axis=-1), 2 * math.ldexp(energy, -k),
+                               rtol=1e-12)
+
+
+def polhode_trajectory_scaled(k):
+    """The trajectory drawn on the polhode of the moments 2^k [1, 2, 3] is on its sphere and
+    ellipsoid (its own |L| and T at t0, from OMEGA0 in exact rationals)."""
+
+    def check(ax):
+        from fractions import Fraction
+
+        (line,) = lines(ax, "trajectory")
+        w = [Fraction(x) for x in OMEGA0]
+        m = [Fraction(x) for x in MOMENTS]
+        l2 = sum((mi * wi) ** 2 for mi, wi in zip(m, w, strict=True))
+        energy = sum(mi * wi * wi for mi, wi in zip(m, w, strict=True)) / 2
+        on_the_polhode(np.column_stack(line.get_data_3d()), np.ldexp(MOMENTS, k),
+                       math.ldexp(math.sqrt(l2), k), math.ldexp(float(energy), k), k)
+
+    return check
+
+
+def dissipation_levels_exact(ax):
+    """Torque-free: T and |L| stay at their first values; the separatrix at L^2 / (2 I2 T) and
+    the spin about axis 3 at L^2 / (2 I3 T), from OMEGA0 in exact rationals (they do not
+    depend on the moments' scale)."""
+    from fractions import Fraction
+
+    w = [Fraction(x) for x in OMEGA0]
+    m = [Fraction(x) for x in MOMENTS]
+    l2 = sum((mi * wi) ** 2 for mi, wi in zip(m, w, strict=True))
+    energy = sum(mi * wi * wi for mi, wi in zip(m, w, strict=True)) / 2
+    for gid in ("dissipation:energy", "dissipation:angular_momentum"):
+        np.testing.assert_allclose(lines(ax, gid)[0].get_ydata(), 1.0, rtol=1e-12)
+    for gid, moment in (("dissipation:separatrix", m[1]), ("dissipation:largest_axis", m[2])):
+        level = float(l2 / (2 * moment * energy))
+        np.testing.assert_allclose(lines(ax, gid)[0].get_ydata(), level, rtol=4e-16)
+
+
+def drifts_below(bound):
+    def check(ax):
+        drawn(ax)
+        for line in lines(ax, "drift:"):
+            assert np.max(line.get_ydata()) <= bound, line.get_gid()
+
+    return check
+
+
+def scene_drawn(fig):
+    """Every number of the figure finite, and the body not collapsed to a point."""
+    for trace in fig.data:
+        for axis in "xyz":
+            value = getattr(trace, axis, None)
+            values = np.asarray([] if value is None else value, dtype=float)
+            assert np.all(np.isfinite(values)), (trace.uid, axis)
+    body = np.asarray(fig.data[0].x, dtype=float)
+    assert np.ptp(body) > 0, "the body drawn as a point"
+
+
+err("polhode/|L|=1e300 (T = L^2/2I beyond doubles)", lambda: PO(MOMENTS, 1e300),
+    ph.ArgumentError, "angular_momentum_norm")
+for _k in (SCALE, -SCALE):
+    ok(f"polhode/traj of moments 2^{_k} [1, 2, 3]", lambda k=_k: PO(traj=scaled_traj(k)),
+       polhode_trajectory_scaled(_k))
+err("polhode_curves/moments all equal", lambda: PC([1.0, 1.0, 1.0], 1.0, 0.5), ph.ArgumentError,
+    "moments")
+err("polhode_curves/|L|=1e300", lambda: PC(MOMENTS, 1e300, 0.3), ph.ArgumentError,
+    "angular_momentum_norm")
+err("polhode_curves/|L|=1e-300", lambda: PC(MOMENTS, 1e-300, 0.3), ph.ArgumentError,
+    "angular_momentum_norm")
+ok("polhode_curves/|L| = 2^1000, moments 2^1000 [1, 2, 3] (L^2 beyond doubles, T not)",
+   lambda: PC(np.ldexp(MOMENTS, SCALE), math.ldexp(1.0, SCALE), math.ldexp(0.3, SCALE)),
+   lambda curves: [on_the_polhode(c, np.ldexp(MOMENTS, SCALE), math.ldexp(1.0, SCALE),
+                                  math.ldexp(0.3, SCALE), SCALE) for c in curves])
+ok("invariable_plane_basis/hint=1e300 [1, 1, 0]", lambda: IPB([0.0, 0.0, 1.0], [1e300, 1e300, 0]),
+   lambda basis: np.testing.assert_allclose(
+       basis, [[0.5**0.5, 0.5**0.5, 0.0], [-(0.5**0.5), 0.5**0.5, 0.0], [0.0, 0.0, 1.0]],
+       atol=1e-15))
+# The time plots at the ends of double precision.
+for _k in (SCALE, -SCALE):
+    ok(f"drift/traj of moments 2^{_k} [1, 2, 3]", lambda k=_k: plot.drift(scaled_traj(k)),
+       drifts_below(64 * np.finfo(float).eps))
+    ok(f"dissipation/traj of moments 2^{_k} [1, 2, 3]",
+       lambda k=_k: plot.dissipation(scaled_traj(k)), dissipation_levels_exact)
+
+err("perturbation_error/direction=1e308 [1, 1, 0]",
+    lambda: PE(MOMENTS, eps=[1e-3], direction=[1e308, 1e308, 0.0]), ph.ArgumentError, "eps")
+ok("perturbation_errors/direction 1e300 [1, 1, 0] against eps 1e-303",
+   lambda: PES(MOMENTS, 2, [1e-303], t=1.0, direction=[1e300, 1e300, 0.0]),
+   lambda errors: np.testing.assert_array_less(errors[2], 1e-6))
+for _k in (SCALE, -SCALE):
+    ok(f"animate/traj of moments 2^{_k} [1, 2, 3]",
+       lambda k=_k: AN(scaled_traj(k), frames=2), drawn)
+    ok(f"scene/traj of moments 2^{_k} [1, 2, 3]",
+       lambda k=_k: SCENE(scaled_traj(k), frames=2), scene_drawn)
+err("scene/omega 1e150 in float32", lambda: SCENE(ph.simulate(
+    MOMENTS, [1e150, 1e150, 1e150], np.linspace(0.0, 1e-149, 41)), frames=2), ph.ArgumentError,
+    "dtype")
+err("scene/omega 1e-160 in float32 (drawn as zeros)", lambda: SCENE(ph.simulate(
+    MOMENTS, [1e-160, 1e-160, 1e-160], np.linspace(0.0, 1e161, 41)), frames=2),
+    ph.ArgumentError, "dtype")
+ok("scene/omega 1e150 in float64", lambda: SCENE(ph.simulate(
+    MOMENTS, [1e150, 1e150, 1e150], np.linspace(0.0, 1e-149, 41)), frames=2,
+    dtype=np.float64), scene_drawn)
+
+
+# ---------------------------------------------------------------------------------------------
 # Running the rows, and their outcomes
 # ---------------------------------------------------------------------------------------------
 

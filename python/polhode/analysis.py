@@ -224,8 +224,12 @@ def _turns_over(regime: str, mom: list[float], energy: float, norm: float) -> bo
     ``L_2^2`` and ``m`` the motion's elliptic parameter."""
     if regime not in _ABOUT.values() or not energy > 0.0:
         return False
-    i1, i2, i3 = mom
-    d = (norm / (2.0 * energy)) * norm  # |L|^2 / 2T, between I1 and I3
+    # Every quantity below is a ratio of moments: they are taken in units of the power of two
+    # of the largest (exactly), where products of two moments of 1e200 overflowed (turns_over
+    # False) and of 1e-200 underflowed (a ZeroDivisionError).
+    k = math.frexp(mom[2])[1]
+    i1, i2, i3 = (math.ldexp(x, -k) for x in mom)
+    d = math.ldexp((norm / (2.0 * energy)) * norm, -k)  # |L|^2 / 2T, between I1 and I3
     if regime == "about_largest_axis":  # L_2 = A sn, L_1 = .. cn, L_3 = .. dn
         reach = i2 * (i3 - d) / (d * (i3 - i2))
         m = (i2 - i1) * (i3 - d) / ((i3 - i2) * (d - i1))

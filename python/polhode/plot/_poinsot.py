@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from polhode import _shapes
 from polhode._coerce import as_integer
+from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._axes import one_trajectory
 from polhode.plot._labels import AXIS_ROLES
@@ -290,12 +291,13 @@ def decimated(
 
 
 def inertia_box(tensor: Array) -> list[Array]:
-    """Faces of the uniform cuboid with these principal moments (up to a common scale: its
-    mass is unknown), along the principal axes; sides a_k^2 ~ I_i + I_j - I_k (a thin side
-    where the moments break the triangle inequality)."""
+    """Faces of the uniform cuboid with these principal moments, along the principal axes;
+    sides a_k^2 ~ I_i + I_j - I_k (a thin side where the moments break the triangle
+    inequality), up to a common scale (its mass is unknown): the longest side 1, whatever the
+    size of the moments (1e300 or 1e-300)."""
     moments, axes = np.linalg.eigh(tensor)
     squares = np.sum(moments) - 2.0 * moments
-    squares = np.maximum(squares, 1e-4 * float(np.max(squares)))
+    squares = np.maximum(squares / float(np.max(squares)), 1e-4)
     shape = _shapes.part("cuboid", size=np.sqrt(squares))
     return _shapes.surface(_shapes.moved(shape, axes, np.zeros(3)) or ())
 
@@ -382,9 +384,7 @@ def marked_end(
     vertices, faces, source = cut_end(vertices, faces, along - level)
     corners = vertices[faces]
     capped = corners.mean(axis=1) @ direction > level
-    areas = np.linalg.norm(
-        np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
-    )
+    areas = norms(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
     weights = areas * capped
     if weights.sum() > 0:
         centre = (corners.mean(axis=1) * weights[:, None]).sum(axis=0) / weights.sum()
@@ -468,7 +468,7 @@ def _area(polygon: Array) -> float:
     total = np.zeros(3)
     for a, b in zip(polygon[1:-1], polygon[2:], strict=True):
         total += np.cross(a - first, b - first)
-    return float(np.linalg.norm(total)) / 2.0
+    return float(norms(total)) / 2.0
 
 
 def largest_turn(vectors: Array) -> float:
@@ -476,7 +476,7 @@ def largest_turn(vectors: Array) -> float:
     if len(vectors) < 2:
         return 0.0
     a, b = vectors[:-1], vectors[1:]
-    cross = np.linalg.norm(np.cross(a, b), axis=1)
+    cross = norms(np.cross(a, b))
     return float(np.degrees(np.max(np.arctan2(cross, np.einsum("ij,ij->i", a, b)))))
 
 
@@ -489,11 +489,11 @@ def plane_disc(centre: Array, e1: Array, e2: Array, radius: float, n: int = 48) 
 
 def arrow_head(tip: Array, direction: Array, length: float, radius: float, n: int = 12) -> Array:
     """Vertices of a cone: its tip, its base's centre, then n points of its base's rim."""
-    norm = float(np.linalg.norm(direction))
+    norm = float(norms(direction))
     u = direction / norm if norm > 0 else np.array([0.0, 0.0, 1.0])
     helper = np.eye(3)[int(np.argmin(np.abs(u)))]
     a = np.cross(u, helper)
-    a /= np.linalg.norm(a)
+    a /= norms(a)
     b = np.cross(u, a)
     base = tip - length * u
     phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
@@ -516,8 +516,8 @@ def plane_basis(normal: Array, hint: Array) -> tuple[Array, Array]:
     plane (or an axis's, when the hint is along the normal)."""
     for c in (hint, *np.eye(3)[np.argsort(np.abs(normal))]):
         e1 = c - np.dot(c, normal) * normal
-        size = float(np.linalg.norm(e1))
-        if size > 1e-6 * max(float(np.linalg.norm(c)), 1e-300):
+        size = float(norms(e1))
+        if size > 1e-6 * max(float(norms(c)), 1e-300):
             e1 = e1 / size
             return e1, np.cross(normal, e1)
     raise AssertionError("no direction off the normal")  # pragma: no cover

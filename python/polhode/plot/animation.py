@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_flag, as_integer, as_path
+from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._axes import axes_for, one_trajectory
 from polhode.plot._frames import body_axes, fits, principal_of
@@ -302,13 +303,13 @@ class _Drawing:
             for k, cap in zip(owner, capped, strict=True)
         ]
         self.end = end
-        reach = max(float(np.max(np.linalg.norm(q, axis=1))) for q in pieces)
+        reach = max(float(np.max(norms(q))) for q in pieces)
         self.com = shape.com
-        self.size = 1.1 * max(reach, float(np.linalg.norm(self.com)) + 1e-300)
+        self.size = 1.1 * max(reach, float(norms(self.com)) + 1e-300)
         arrow = 0.9 * self.size
 
         def scaled(vectors: Array) -> Array:
-            biggest = float(np.max(np.linalg.norm(vectors, axis=1)))
+            biggest = float(np.max(norms(vectors)))
             return vectors * (arrow / biggest) if biggest > 0 else vectors
 
         self.omega_drawn, self.l_drawn = scaled(omega_space), scaled(l_space)

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_float_array, as_integer
+from polhode._norms import norms
 from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
 from polhode.invariants import relative_drift
 from polhode.plot._axes import FLOOR, axes_for, check_floor, one_trajectory
@@ -172,13 +173,18 @@ def dissipation(
     unit = units_of(units)
     ax = axes_for(ax)
     moments = np.sort(np.asarray(traj.moments, dtype=np.float64))
-    ell = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
+    ell = norms(np.asarray(traj.angular_momentum_body, dtype=np.float64))
     energy = np.asarray(traj.energy, dtype=np.float64)
-    t0_energy, l2 = energy[0], ell[0] ** 2
+    t0_energy, ell0 = float(energy[0]), float(ell[0])
+
+    def level(moment: float) -> float:
+        """L(t0)^2 / (2 I) / T(t0), L^2 never formed (it overflows where T does not)."""
+        return (ell0 / moment) * (ell0 / (2.0 * t0_energy))
+
     ax.plot(traj.t, energy / t0_energy, label="$T / T(t_0)$", gid="dissipation:energy")
-    ax.plot(traj.t, ell / ell[0], label="$|L| / |L(t_0)|$", gid="dissipation:angular_momentum")
+    ax.plot(traj.t, ell / ell0, label="$|L| / |L(t_0)|$", gid="dissipation:angular_momentum")
     ax.axhline(
-        l2 / (2 * moments[1]) / t0_energy,
+        level(moments[1]),
         color="black",
         linestyle="--",
         linewidth=1.0,
@@ -186,7 +192,7 @@ def dissipation(
         gid="dissipation:separatrix",
     )
     ax.axhline(
-        l2 / (2 * moments[2]) / t0_energy,
+        level(moments[2]),
         color="0.5",
         linestyle=":",
         linewidth=1.2,
@@ -386,7 +392,7 @@ def perturbation_errors(
             "Expected `spin` to be non-zero (the spin about `axis`), got 0.", argument="spin"
         )
     shape = as_finite_array("direction", direction, (3,))
-    off_axis = float(np.linalg.norm(np.delete(shape, axis)))
+    off_axis = float(norms(np.delete(shape, axis)))
     if off_axis == 0.0:
         raise ArgumentError(
             f"Expected `direction` to have a component off axis {axis + 1} (its entry [{axis}] is "
