@@ -527,6 +527,128 @@ err("scene/path=5", lambda: SCENE(bar_traj(), bar(), frames=2, path=5), TypeErro
 
 
 # ---------------------------------------------------------------------------------------------
+# A second probe (issue 28's leftovers): every public function, every argument, with wrong
+# types, masked values, numbers beyond double precision and out of range.
+# ---------------------------------------------------------------------------------------------
+
+BIG = 2**2000  # beyond double precision: float(BIG) raises OverflowError
+def masked(values, mask):
+    return np.ma.array(np.asarray(values), mask=mask)
+
+
+def ball():
+    """A body with a round part, whose surface depends on the resolution."""
+    return cached("ball", lambda: ph.Body.sphere(1.0, 0.1))
+
+
+def ball_traj():
+    return cached("ball_traj", lambda: ph.simulate(ball(), [0.0, 0.0, 1.0], TIMES[:41]))
+
+
+def folder():
+    return tempfile.mkdtemp(prefix="polhode-plot-errors-")
+
+
+# The trajectory argument: a Body or None where a trajectory is expected (issue 28's list).
+for _name, _call in TRAJECTORY_PLOTS.items():
+    err(f"{_name}/traj=None", lambda c=_call: c(None), TypeError, "traj")
+    err(f"{_name}/traj=a Body", lambda c=_call: c(bar()), TypeError, "traj")
+# The floor: masked, beyond double precision.
+for _name, _call in FLOOR_PLOTS.items():
+    err(f"{_name}/floor=np.ma.masked", lambda c=_call: c(np.ma.masked), ph.ArgumentError,
+        "floor")
+    err(f"{_name}/floor=2**2000", lambda c=_call: c(BIG), ph.NonFiniteError, "floor")
+
+# polhode: a masked body (its masked entries are no data), the number of points, |L| whose
+# energies are beyond double precision, trajectories at the ends of double precision.
+err("polhode/body masked", lambda: PO(masked(MOMENTS, [0, 1, 0])), ph.ArgumentError, "body")
+ok("polhode/body masked, nothing masked", lambda: PO(masked([3.0, 2.0, 1.0], [0, 0, 0])),
+   same_polhode_as_moments([3.0, 2.0, 1.0]))
+err("polhode/body='abc'", lambda: PO("abc"), TypeError, "body")
+err("polhode/n=10**9", lambda: PO(MOMENTS, n=10**9), ph.ArgumentError, "n")
+err("polhode/n=2**62", lambda: PO(MOMENTS, n=2**62), ph.ArgumentError, "n")
+ok("polhode/n=np.array(400)", lambda: PO(MOMENTS, n=np.array(400)),
+   same_polhode_as_moments(MOMENTS))
+err("polhode/|L|=2**2000", lambda: PO(MOMENTS, BIG), ph.NonFiniteError,
+    "angular_momentum_norm")
+err("polhode/|L| masked", lambda: PO(MOMENTS, np.ma.masked), ph.ArgumentError,
+    "angular_momentum_norm")
+err("polhode/energies masked", lambda: PO(MOMENTS, 1.0, masked([0.3, 0.4], [0, 1])),
+    ph.ArgumentError, "energies")
+err("polhode/energies=[2**2000]", lambda: PO(MOMENTS, 1.0, [BIG]), ph.NonFiniteError,
+    "energies")
+err("polhode_curves/n=10**9", lambda: PC(MOMENTS, 1.0, 0.3, n=10**9), ph.ArgumentError, "n")
+err("polhode_curves/moments masked", lambda: PC(masked(MOMENTS, [1, 0, 0]), 1.0, 0.3),
+    ph.ArgumentError, "moments")
+err("separatrix_curves/n=10**9", lambda: SC(MOMENTS, 1.0, n=10**9), ph.ArgumentError, "n")
+err("invariable_plane_basis/hint masked",
+    lambda: IPB([0.0, 0.0, 1.0], masked([1, 0, 0], [1, 0, 0])), ph.ArgumentError, "hint")
+
+# perturbation_error(s): no times, masked and overflowing values, a spin whose motion
+# overflows (the spin's fault, not eps'), a direction beyond double precision.
+err("perturbation_error/t=2**2000", lambda: PE(MOMENTS, eps=[1e-3], t=BIG), ph.NonFiniteError,
+    "t")
+err("perturbation_error/t masked", lambda: PE(MOMENTS, eps=[1e-3], t=masked([0.0, 1.0], [0, 1])),
+    ph.ArgumentError, "t")
+err("perturbation_error/eps masked", lambda: PE(MOMENTS, eps=masked([1e-3, 1e-2], [0, 1])),
+    ph.ArgumentError, "eps")
+err("perturbation_error/spin masked", lambda: PE(MOMENTS, eps=[1e-3], spin=np.ma.masked),
+    ph.ArgumentError, "spin")
+err("perturbation_error/direction masked",
+    lambda: PE(MOMENTS, eps=[1e-3], direction=masked([1.0, 0.0, 0.0], [0, 1, 0])),
+    ph.ArgumentError, "direction")
+err("perturbation_error/axis=np.int64(3)", lambda: PE(MOMENTS, axis=np.int64(3)),
+    ph.ArgumentError, "axis")
+
+# animate and scene: frames given as a masked array, the resolution, the interval and the
+# dpi of a saved file, a path where nothing can be written, trajectories at the ends.
+for _name, _call in (("animate", lambda **k: AN(bar_traj(), bar(), **k)),
+                     ("scene", lambda **k: SCENE(bar_traj(), bar(), **k))):
+    err(f"{_name}/frames masked", lambda c=_call: c(frames=np.ma.array([0, 5], mask=[0, 1])),
+        ph.ArgumentError, "frames")
+    err(f"{_name}/frames np.ma.masked 0-d", lambda c=_call: c(frames=np.ma.array(2, mask=True)),
+        ph.ArgumentError, "frames")
+    ok(f"{_name}/frames masked, nothing masked",
+       lambda c=_call: c(frames=np.ma.array([0, 5], mask=[0, 0])),
+       lambda r: np.testing.assert_array_equal(
+           r.frame_indices if hasattr(r, "frame_indices") else r.layout.meta["frame_indices"],
+           [0, 5]))
+    ok(f"{_name}/frames=np.array(2)", lambda c=_call: c(frames=np.array(2)),
+       lambda r: np.testing.assert_array_equal(
+           r.frame_indices if hasattr(r, "frame_indices") else r.layout.meta["frame_indices"],
+           [0, 40]))
+    err(f"{_name}/path in a missing folder",
+        lambda c=_call: c(frames=2, path=folder() + "/missing/x.gif"), FileNotFoundError, "path")
+    err(f"{_name}/path=''", lambda c=_call: c(frames=2, path=""), ph.ArgumentError, "path")
+    err(f"{_name}/path a folder", lambda c=_call: c(frames=2, path=folder()), ph.ArgumentError,
+        "path")
+err("animate/resolution=10**6", lambda: AN(ball_traj(), ball(), frames=2, resolution=10**6),
+    ph.ArgumentError, "resolution")
+err("scene/resolution=10**6", lambda: SCENE(ball_traj(), ball(), frames=2, resolution=10**6),
+    ph.ArgumentError, "resolution")
+err("scene/resolution=2**62", lambda: SCENE(ball_traj(), ball(), frames=2, resolution=2**62),
+    ph.ArgumentError, "resolution")
+ok("animate/resolution=360", lambda: AN(ball_traj(), ball(), frames=1, resolution=360), drawn)
+err("animate/interval=1e300", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), interval=1e300),
+    ph.ArgumentError, "interval")
+err("animate/interval=1e6", lambda: AN(bar_traj(), bar(), frames=2, interval=1e6),
+    ph.ArgumentError, "interval")
+err("animate/dpi=1e300", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=1e300),
+    ph.ArgumentError, "dpi")
+err("animate/dpi=5", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=5.0),
+    ph.ArgumentError, "dpi")
+err("animate/dpi=1e-300", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=1e-300),
+    ph.ArgumentError, "dpi")
+err("animate/dpi masked", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=np.ma.masked),
+    ph.ArgumentError, "dpi")
+err("animate/origin masked", lambda: AN(bar_traj(), bar(), frames=2,
+                                        origin=masked([0.0, 0.0, 0.1], [0, 0, 1])),
+    ph.ArgumentError, "origin")
+err("animate/body masked", lambda: AN(bar_traj(), masked(np.diag(bar().inertia), [0, 1, 0]),
+                                      frames=2), ph.ArgumentError, "body")
+
+
+# ---------------------------------------------------------------------------------------------
 # At the ends of double precision: trajectories of moments 2^+-1000 [1, 2, 3] (their squares,
 # L^2 and |L|'s own, are beyond doubles), huge and tiny |L|, directions, hints and rates. The
 # reference of a drawing there is the equation it must satisfy, in units of that power of two

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _shapes
-from polhode._coerce import as_integer
+from polhode._coerce import as_integer, unmasked
 from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._axes import one_trajectory
@@ -55,6 +55,7 @@ __all__ = [
     "CAP",
     "L_TOLERANCE",
     "MARK_COLOR",
+    "MAX_RESOLUTION",
     "MAX_TURN",
     "MIN_TIMES",
     "PART_COLORS",
@@ -63,6 +64,7 @@ __all__ = [
     "arrow_head",
     "body_mesh",
     "capped_polygons",
+    "check_resolution",
     "check_trajectory",
     "fan_faces",
     "frame_indices",
@@ -81,6 +83,10 @@ MAX_TURN = 20.0
 
 #: Fewer output times than this, and :func:`scene` warns that they cannot draw the motion.
 MIN_TIMES = 10
+
+#: The most segments around a circle (``resolution`` of :func:`scene` and :func:`animate`): one
+#: per degree. A sphere of this resolution has 64,800 faces, in every frame.
+MAX_RESOLUTION = 360
 
 #: Relative change of L in space above which the figure says that L is not conserved.
 L_TOLERANCE = 1e-6
@@ -108,6 +114,13 @@ def check_trajectory(trajectory: Any) -> Trajectory:
     return trajectory
 
 
+def check_resolution(resolution: Any) -> int:
+    """Segments around a circle: an integer from 6 to MAX_RESOLUTION."""
+    return as_integer(
+        "resolution", resolution, minimum=6, maximum=MAX_RESOLUTION, why="one segment a degree"
+    )
+
+
 def frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
     """Indices into the ``count`` output times: ``frames`` evenly spaced ones (a number, at
     least 1), or those given (integers from -count to count - 1)."""
@@ -122,7 +135,7 @@ def frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
         raise TypeError(
             f"Expected `frames` to be a number of frames or indices, got {type(frames).__name__}."
         )
-    indices = np.asarray(frames)
+    indices = np.asarray(unmasked("frames", frames))
     if indices.size == 0:
         raise ArgumentError(
             "Expected `frames` to be a non-empty array of output-time indices.", argument="frames"

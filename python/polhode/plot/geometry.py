@@ -32,6 +32,10 @@ __all__ = [
     "separatrix_curves",
 ]
 
+#: The most points a curve may have (``n``): a curve of 400 is smooth at any size a screen
+#: shows, and 18 curves of this many already take matplotlib seconds to draw.
+MAX_POINTS = 100_000
+
 #: A trajectory is drawn coloured by time (by default) where its energy changes by more than
 #: this, relative: a damper or a torque at work.
 ENERGY_CHANGE = 1e-3
@@ -50,6 +54,11 @@ def _moments(moments: Any) -> NDArray[np.float64]:
             argument="moments",
         )
     return m
+
+
+def _points(n: Any) -> int:
+    """The points of a curve, ``n``: an integer from 2 to MAX_POINTS."""
+    return as_integer("n", n, minimum=2, maximum=MAX_POINTS, why="points per curve")
 
 
 def _default_energies(moments: NDArray[np.float64], ell: float) -> list[float]:
@@ -97,7 +106,7 @@ def polhode_curves(
         )
     ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
     energy = as_finite("energy", energy)
-    n = as_integer("n", n, minimum=2)
+    n = _points(n)
     low, high = _energy_range(inertia, ell, "angular_momentum_norm")
     if not low <= energy <= high:
         raise ArgumentError(
@@ -132,7 +141,7 @@ def separatrix_curves(
     for a symmetric body (I1 = I2 or I2 = I3)."""
     i1, i2, i3 = (float(m) for m in _moments(moments))
     ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
-    n = as_integer("n", n, minimum=2)
+    n = _points(n)
     if not i1 < i2 < i3:
         return []
     k = np.sqrt((1 / i1 - 1 / i2) / (1 / i2 - 1 / i3))
@@ -231,7 +240,7 @@ def polhode(
         those of ``body``, which must be the body it was simulated with, or without ``body``
         those its own omega and angular momentum tell.
     sphere : draw a faint wireframe of the sphere.
-    n : points per curve (at least 2).
+    n : points per curve (2 to 100000).
     color_by_time : draw the trajectory coloured by time, with a colour bar, its start and its
         end marked (and the energy levels only if ``energies`` are given: it crosses them);
         default: where its energy changes by more than 0.1 % (a damper or a torque at work),
@@ -264,7 +273,7 @@ def polhode(
             argument="body" if body is not None else "traj",
         )
     sphere = as_flag("sphere", sphere)
-    n = as_integer("n", n, minimum=2)
+    n = _points(n)
     unit = units_of(units)
     if angular_momentum_norm is None:
         ell = 1.0 if momentum is None else float(norms(momentum[0]))

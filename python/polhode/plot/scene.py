@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_integer, as_path
+from polhode._files import writable
 from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._frames import principal_of
@@ -41,6 +42,7 @@ from polhode.plot._poinsot import (
     arrow_cone_faces,
     arrow_head,
     body_mesh,
+    check_resolution,
     check_trajectory,
     fan_faces,
     frame_indices,
@@ -136,7 +138,8 @@ def scene(
         Largest number of points of the polhode and the herpolhode (default 400; every
         frame's own time is one of them).
     resolution : int
-        Segments around a circle of the ellipsoid and of the body's solids.
+        Segments around a circle of the ellipsoid and of the body's solids (6 to 360, one a
+        degree).
     max_vertices : int
         A body with more vertices (a large mesh) is simplified to about this many, by merging
         the vertices of each cell of a grid.
@@ -297,11 +300,11 @@ def _settings(body: Any, *, origin: Any, dtype: Any, **given: Any) -> _Settings:
         fixed=fixed,
         store=store,
         curve_points=as_integer("curve_points", given["curve_points"], minimum=2),
-        resolution=as_integer("resolution", given["resolution"], minimum=6),
+        resolution=check_resolution(given["resolution"]),
         max_vertices=as_integer("max_vertices", given["max_vertices"], minimum=8),
         frame_duration=frame_duration,
         unit=units_of(given["units"]),
-        path=None if given["path"] is None else as_path("path", given["path"]),
+        path=None if given["path"] is None else writable(as_path("path", given["path"])),
     )
 
 
