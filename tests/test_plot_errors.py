@@ -597,8 +597,20 @@ err("separatrix_curves/n=10**9", lambda: SC(MOMENTS, 1.0, n=10**9), ph.ArgumentE
 err("invariable_plane_basis/hint masked",
     lambda: IPB([0.0, 0.0, 1.0], masked([1, 0, 0], [1, 0, 0])), ph.ArgumentError, "hint")
 
+# work_precision: a series' masked or overflowing values name `results`.
+err("work_precision/times masked", lambda: WP({"a": (masked([1.0, 2.0], [0, 1]), [1e-3, 1e-6])}),
+    ph.ArgumentError, "results")
+err("work_precision/errors masked", lambda: WP({"a": ([1.0, 2.0], masked([1e-3, 0.0], [1, 0]))}),
+    ph.ArgumentError, "results")
+err("work_precision/times 2**2000", lambda: WP({"a": ([1.0, BIG], [1e-3, 1e-6])}),
+    ph.NonFiniteError, "results")
+err("work_precision/errors 2**2000", lambda: WP({"a": ([1.0, 2.0], [BIG, 1e-6])}),
+    ph.NonFiniteError, "results")
+
 # perturbation_error(s): no times, masked and overflowing values, a spin whose motion
 # overflows (the spin's fault, not eps'), a direction beyond double precision.
+err("perturbation_error/t=[]", lambda: PE(MOMENTS, eps=[1e-3], t=[]), ph.ShapeError, "t")
+err("perturbation_errors/t=[]", lambda: PES(MOMENTS, 0, [1e-3], t=[]), ph.ShapeError, "t")
 err("perturbation_error/t=2**2000", lambda: PE(MOMENTS, eps=[1e-3], t=BIG), ph.NonFiniteError,
     "t")
 err("perturbation_error/t masked", lambda: PE(MOMENTS, eps=[1e-3], t=masked([0.0, 1.0], [0, 1])),
@@ -607,6 +619,14 @@ err("perturbation_error/eps masked", lambda: PE(MOMENTS, eps=masked([1e-3, 1e-2]
     ph.ArgumentError, "eps")
 err("perturbation_error/spin masked", lambda: PE(MOMENTS, eps=[1e-3], spin=np.ma.masked),
     ph.ArgumentError, "spin")
+err("perturbation_error/spin=1e300", lambda: PE(MOMENTS, eps=[1e-3], spin=1e300),
+    ph.ArgumentError, "spin")
+err("perturbation_error/spin=1e154", lambda: PE(MOMENTS, eps=[1e-3], spin=1e154),
+    ph.ArgumentError, "spin")
+err("perturbation_errors/spin=1e300", lambda: PES(MOMENTS, 0, [1e-3], spin=1e300),
+    ph.ArgumentError, "spin")
+err("perturbation_error/direction 1e300, eps by default",
+    lambda: PE(MOMENTS, direction=[1e300, 1e300, 0.0]), ph.ArgumentError, "direction")
 err("perturbation_error/direction masked",
     lambda: PE(MOMENTS, eps=[1e-3], direction=masked([1.0, 0.0, 0.0], [0, 1, 0])),
     ph.ArgumentError, "direction")

@@ -11,7 +11,13 @@ from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_float_array, as_integer
 from polhode._norms import norms
-from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
+from polhode.errors import (
+    ArgumentError,
+    NonFiniteError,
+    NonPositiveError,
+    PolhodeError,
+    ShapeError,
+)
 from polhode.invariants import relative_drift
 from polhode.plot._axes import FLOOR, axes_for, check_floor, one_trajectory
 from polhode.plot._frames import body_axes, principal_of
@@ -225,8 +231,11 @@ def _series(results: Any) -> list[tuple[str, NDArray[np.float64], NDArray[np.flo
                 f"Expected `{where}` to be a pair (times, errors), got {type(pair).__name__}"
                 + (f" of {len(pair)}." if isinstance(pair, Sequence) else ".")
             )
-        x = as_float_array(where, pair[0])
-        y = as_float_array(where, pair[1])
+        try:
+            x = as_float_array(where, pair[0])
+            y = as_float_array(where, pair[1])
+        except PolhodeError as error:  # masked, or beyond double precision
+            raise type(error)(error.message, argument="results") from None
         if x.ndim != 1 or x.shape != y.shape or x.size == 0:
             raise ShapeError(
                 f"Expected `{where}` to be times and errors of one shape (K,), K >= 1, got "
@@ -304,8 +313,19 @@ SLOPE_OFFSET = 4.0
 PERTURBATION_DIRECTION = (0.7, -0.4, 0.5)
 
 
-#: perturbation()'s arguments, as perturbation_errors' arguments that set them.
-_ARGUMENTS = {"omega0": "eps", "moments": "body", "order": "orders"}
+#: perturbation()'s and simulate()'s arguments, as perturbation_errors' arguments that set
+#: them (omega0: see _renamed).
+_ARGUMENTS = {"moments": "body", "order": "orders"}
+
+
+def _renamed(error: Any, omega0: str) -> Any:
+    """``error`` (a PolhodeError of perturbation() or simulate()) naming the argument of
+    perturbation_errors that set the one it names: ``omega0`` is eps * direction with the
+    spin on the axis, checked finite and within the domain before the calls, so what is left
+    of it is ``omega0``'s: the spin (its size overflows) or eps (the expansion's own domain)."""
+    name = str(error.argument)
+    argument = omega0 if name == "omega0" else _ARGUMENTS.get(name, error.argument)
+    return type(error)(error.message, argument=argument)
 
 
 def _epsilons(eps: Any) -> NDArray[np.float64]:
@@ -342,9 +362,10 @@ def _times(t: Any) -> NDArray[np.float64]:
     if np.ndim(t) == 0:  # an end time (or not a number: a TypeError naming `t`)
         return np.linspace(0.0, as_finite("t", t, positive=True), 41)
     times = as_float_array("t", t)
-    if times.ndim != 1:
+    if times.ndim != 1 or times.size == 0:
         raise ShapeError(
-            f"Expected `t` to be an end time or times (M,), got shape {times.shape}.", argument="t"
+            f"Expected `t` to be an end time or times (M,), M >= 1, got shape {times.shape}.",
+            argument="t",
         )
     if not np.all(np.isfinite(times)):
         raise NonFiniteError(f"Expected `t` to be finite, got {times.tolist()}.", argument="t")
@@ -377,7 +398,6 @@ def perturbation_errors(
     means 41 times from 0 to it; times must start at 0). The exact solution is
     ``polhode.simulate(..., method="exact")``, all eps in one batch.
     """
-    from polhode.errors import PolhodeError
     from polhode.perturbation import EPS_MAX, perturbation
     from polhode.simulation import simulate
 
@@ -410,17 +430,19 @@ def perturbation_errors(
     omega0[:, axis] = spin
     try:
         exact = simulate(moments, omega0, times, method="exact", orientation=False).omega
-        errors = {}
-        for order in orders:
-            errors[order] = np.array(
-                [
-                    np.max(np.abs(perturbation(moments, w, times, axis=axis, order=order) - e))
-                    for w, e in zip(omega0, exact, strict=True)
-                ]
-            )
     except PolhodeError as error:
-        argument = _ARGUMENTS.get(str(error.argument), error.argument)
-        raise type(error)(error.message, argument=argument) from error
+        raise _renamed(error, "spin") from error
+    errors = {}
+    for order in orders:
+        try:
+            expansions = [perturbation(moments, w, times, axis=axis, order=order) for w in omega0]
+        except NonFiniteError as error:
+            raise _renamed(error, "spin") from error
+        except PolhodeError as error:
+            raise _renamed(error, "eps") from error
+        errors[order] = np.array(
+            [np.max(np.abs(x - e)) for x, e in zip(expansions, exact, strict=True)]
+        )
     return errors
 
 
@@ -463,7 +485,20 @@ def perturbation_error(
     'Expansion near axis 1 (smallest moment)'
     """
     epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else _epsilons(eps)
-    errors = perturbation_errors(body, axis, epsilons, orders, t, spin=spin, direction=direction)
+    try:
+        errors = perturbation_errors(
+            body, axis, epsilons, orders, t, spin=spin, direction=direction
+        )
+    except ArgumentError as error:
+        if eps is not None or error.argument != "eps":
+            raise
+        # eps by default: the perturbation is too large for the expansion by the direction's
+        # size against the spin, which is what the caller gave.
+        raise ArgumentError(
+            f"{error.message} With eps by default (1e-4 to 0.1), `direction` off the axis "
+            "must be at most 5 |spin|: a smaller direction or a larger spin.",
+            argument="direction",
+        ) from None
     floor = check_floor(floor)
     unit = units_of(units)
     ax = axes_for(ax)
