@@ -2069,6 +2069,66 @@ for _label, _copy in (("pickle", lambda b: pickle.loads(pickle.dumps(b))),
     val(area, f"BodyFixed after {_label} stays read-only",
         lambda c=_copy: c(TQ.BodyFixed([0.0, 0.0, 1.0])).torque.flags.writeable,
         lambda w: assert_true(w is False, repr(w)), "models are immutable")
+# Equality of the result types: every field equal, arrays exactly, NaN equal to NaN in the same
+# place (polhode._equality); not hashable. Was: Analysis == Analysis raised numpy's "truth value
+# of an array is ambiguous", Principal == Principal was identity (False for a copy).
+area = "results"
+
+
+def compared(make):
+    """A row's call: for each (label, a, b, expected) of ``make()``, a == b and a != b."""
+    return lambda: [(label, a == b, a != b, expected) for label, a, b, expected in make()]
+
+
+def as_expected(results):
+    for label, eq, ne, expected in results:
+        assert eq is expected and ne is (not expected), (label, eq, ne)
+
+
+def _analyses():
+    a = ph.analyze(M123, W)
+    return [("the same call", a, ph.analyze(M123, W), True),
+            ("pickled", a, pickle.loads(pickle.dumps(a)), True),
+            ("deep-copied", a, copy.deepcopy(a), True),
+            ("another omega", a, ph.analyze(M123, W * 2), False),
+            ("another body", a, ph.analyze((1.0, 2.0, 3.5), W), False),
+            ("a str", a, "an Analysis", False), ("None", a, None, False)]
+
+
+def _principals():
+    p = ph.principal(SPD)
+    batch = ph.principal(np.stack([SPD, np.eye(3)]))
+    with_nan = ph.Principal(np.array([NAN, 1.0, 2.0]), np.eye(3), np.array([1, 1, 1]))
+    signed = ph.Principal(np.array([0.0, 1.0, 2.0]), np.eye(3), np.array([1, 1, 1]))
+    return [("the same tensor", p, ph.principal(SPD), True),
+            ("pickled", p, pickle.loads(pickle.dumps(p)), True),
+            ("another tensor", p, ph.principal(np.diag([1.0, 2.0, 3.5])), False),
+            ("a batch", p, batch, False),
+            ("the same batch", batch, ph.principal(np.stack([SPD, np.eye(3)])), True),
+            ("its tuple", p, tuple(p), False), ("(moments, axes)", p, (p.moments, p.axes), False),
+            ("NaN in the same place", with_nan, copy.deepcopy(with_nan), True),
+            ("0.0 and -0.0", signed,
+             ph.Principal(np.array([-0.0, 1.0, 2.0]), np.eye(3), np.array([1, 1, 1])), True),
+            ("another multiplicity", signed,
+             ph.Principal(signed.moments, signed.axes, np.array([1, 2, 2])), False)]
+
+
+val(area, "Analysis ==", compared(_analyses), as_expected,
+    "the same call, its copies: equal; another omega or body, another type: not")
+val(area, "Principal ==", compared(_principals), as_expected,
+    "the same tensor, copies, NaN in the same place, 0.0 and -0.0: equal; another tensor, "
+    "a batch, a tuple, another multiplicity: not")
+err(area, "hash(Analysis)", lambda: hash(ph.analyze(M123, W)), TypeError, None,
+    fragment="unhashable")
+err(area, "hash(Principal)", lambda: hash(ph.principal(SPD)), TypeError, None,
+    fragment="unhashable")
+val(area, "Trajectory == its copy",
+    compared(lambda: [("deep-copied", *(lambda t: (t, copy.deepcopy(t)))(
+        ph.simulate(M123, W, TIMES)), True)]), as_expected,
+    "equal motion, stats apart", xfail="Trajectory's == needs python/polhode/simulation.py "
+    "(eq=False and __eq__ by _equality.fields_equal over its motion, stats left out), which is "
+    "being reworked elsewhere: it raises numpy's 'truth value of an array is ambiguous'")
+area = "body"
 err(area, "inertia_about point masked", lambda: BOX.inertia_about(masked([0, 0, 1], [1, 0, 0])),
     ph.ArgumentError, "point")
 err(area, "translated masked", lambda: BOX.translated(masked([0, 0, 1], [0, 1, 0])),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from fractions import Fraction
 from typing import Any
 
@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 from polhode import _core, _display
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_scalar
+from polhode._equality import fields_equal
 from polhode._inputs import EYE as _EYE
 from polhode._inputs import core_body as _simulation_body
 from polhode._inputs import principal_frame as _principal_frame
@@ -23,9 +24,12 @@ from polhode.rotors import SphericalDamper, as_rotors, nutation_rate
 __all__ = ["Analysis", "analyze"]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Analysis:
     """What can be said of a torque-free motion without integrating it.
+
+    Two analyses are equal (``==``) when every field is, arrays exactly (NaN equal to NaN in
+    the same place): an analysis equals its copies and a repeated run's; it is not hashable.
 
     Attributes
     ----------
@@ -147,6 +151,11 @@ class Analysis:
     nutation_rate: float | None = None
     nutation_time_constant: float | None = None
     description: str = ""
+
+    def __eq__(self, other: object) -> Any:
+        return fields_equal(self, other, tuple(f.name for f in fields(self)))
+
+    __hash__ = None  # type: ignore[assignment]  # arrays: equal by value, so not hashable
 
     def _summary(self) -> list[tuple[str, str]]:
         linearized = ", ".join(
