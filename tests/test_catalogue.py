@@ -2798,8 +2798,30 @@ for _label, _call, _error, _argument in (
      ph.NonFiniteError, "scale"),
     ("from_file neither", lambda: ph.Body.from_file(at("tet.off")), ph.ArgumentError,
      "density"),
+    # A scale whose mesh is beyond double precision, where the file's own is not, is the
+    # scale's fault (issue 28: a FileFormatError naming the file).
+    ("from_file scale 1e200, mass", lambda: ph.Body.from_file(at("tet.off"), mass=1.0,
+                                                             scale=1e200), ph.ArgumentError,
+     "scale"),
+    ("from_file scale 1e200, density", lambda: ph.Body.from_file(at("tet.off"), density=1.0,
+                                                                scale=1e200), ph.ArgumentError,
+     "scale"),
+    ("from_file scale 1e-200, density (the mass underflows)",
+     lambda: ph.Body.from_file(at("tet.off"), density=1.0, scale=1e-200), ph.ArgumentError,
+     "scale"),
+    ("read_mesh scale 1e200", lambda: PIO.read_mesh(at("tet.off"), mass=1.0, scale=1e200),
+     ph.ArgumentError, "scale"),
+    ("read_mesh scale (1e200, 1, 1) (flat to rounding)",
+     lambda: PIO.read_mesh(at("tet.off"), mass=1.0, scale=(1e200, 1, 1)), ph.ArgumentError,
+     "scale"),
+    ("read_mesh scale 1e308, density", lambda: PIO.read_mesh(at("tet.off"), density=1.0,
+                                                             scale=1e308), ph.ArgumentError,
+     "scale"),
 ):
     err(area, _label, _call, _error, _argument)
+val(area, "from_file scale 1e100, mass 1", lambda: ph.Body.from_file(at("tet.off"), mass=1.0,
+                                                                     scale=1e100),
+    mesh_file_check(np.multiply(_TET, 1e100), 1.0), "Tonon, the vertices times 1e100")
 err(area, "read_mesh a missing file", lambda: PIO.read_mesh(at("missing.off"), mass=1.0),
     FileNotFoundError, None, fragment="missing.off")
 err(area, "from_file a missing file", lambda: ph.Body.from_file(at("missing.stl"), mass=1.0),
