@@ -64,6 +64,7 @@ __all__ = [
     "arrow_head",
     "body_mesh",
     "capped_polygons",
+    "equal_lengths",
     "check_resolution",
     "check_trajectory",
     "fan_faces",
@@ -433,6 +434,34 @@ def _clipped(polygon: Array, signed: Array, above: bool) -> Array:
             t = signed[i] / (signed[i] - signed[j])
             out.append(polygon[i] + t * (polygon[j] - polygon[i]))
     return np.asarray(out, dtype=np.float64).reshape(-1, 3)
+
+
+def equal_lengths(polygons: list[Array]) -> list[Array]:
+    """The polygons, each with as many vertices as the longest (its own repeated in order), for
+    matplotlib's Poly3DCollection: it keeps polygons of several lengths in an array from
+    ``np.empty`` and projects the unused entries too, whose leftover bits overflowed now and
+    then (numpy's RuntimeWarning at draw time, matplotlib 3.11). The repeats are chosen so that
+    the vertices matplotlib takes for a polygon's normal (0, n // 3, 2 n // 3 of n) are those it
+    takes of the polygon itself: the shading is unchanged, and so is every outline."""
+    longest = max((len(q) for q in polygons), default=0)
+    out = []
+    for q in polygons:
+        count = len(q)
+        if count == longest:
+            out.append(q)
+            continue
+        # Three runs, each onto its third of the polygon, in order and onto every vertex.
+        cuts = (0, longest // 3, 2 * longest // 3, longest)
+        marks = (0, count // 3, 2 * count // 3, count)
+        index = np.concatenate(
+            [
+                marks[k] + (np.arange(cuts[k + 1] - cuts[k]) * (marks[k + 1] - marks[k]))
+                // (cuts[k + 1] - cuts[k])
+                for k in range(3)
+            ]
+        )
+        out.append(q[index])
+    return out
 
 
 def capped_polygons(

@@ -20,6 +20,7 @@ from polhode.plot._poinsot import (
     MARK_COLOR,
     capped_polygons,
     check_resolution,
+    equal_lengths,
     frame_indices,
     inertia_box,
     mark_of,
@@ -335,7 +336,7 @@ class _Drawing:
         polygons = [q for part in shape.parts for q in part]
         owner = [k for k, part in enumerate(shape.parts) for _ in part]
         pieces, owner, capped, end = capped_polygons(polygons, owner, direction)
-        self.polygons = pieces
+        self.polygons = equal_lengths(pieces)
         self.colors = [
             MARK_COLOR if cap else PART_COLORS[k % len(PART_COLORS)]
             for k, cap in zip(owner, capped, strict=True)
