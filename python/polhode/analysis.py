@@ -233,18 +233,16 @@ def _turns_over(regime: str, mom: list[float], energy: float, norm: float) -> bo
     ``L_2^2`` and ``m`` the motion's elliptic parameter."""
     if regime not in _ABOUT.values() or not energy > 0.0:
         return False
-    # Every quantity below is a ratio of moments: they are taken in units of the power of two
-    # of the largest (exactly), where products of two moments of 1e200 overflowed (turns_over
-    # False) and of 1e-200 underflowed (a ZeroDivisionError).
-    k = math.frexp(mom[2])[1]
-    i1, i2, i3 = (math.ldexp(x, -k) for x in mom)
-    d = math.ldexp((norm / (2.0 * energy)) * norm, -k)  # |L|^2 / 2T, between I1 and I3
+    i1, i2, i3 = mom
+    d = (norm / (2.0 * energy)) * norm  # |L|^2 / 2T, between I1 and I3
+    # Products of ratios, never of two moments: those overflowed for moments of 1e200
+    # (turns_over False) and underflowed for 1e-200, or [1, 1e161, 2] (a ZeroDivisionError).
     if regime == "about_largest_axis":  # L_2 = A sn, L_1 = .. cn, L_3 = .. dn
-        reach = i2 * (i3 - d) / (d * (i3 - i2))
-        m = (i2 - i1) * (i3 - d) / ((i3 - i2) * (d - i1))
+        reach = (i2 / d) * ((i3 - d) / (i3 - i2))
+        m = ((i2 - i1) / (i3 - i2)) * ((i3 - d) / (d - i1))
     else:
-        reach = i2 * (d - i1) / (d * (i2 - i1))
-        m = (i3 - i2) * (d - i1) / ((i2 - i1) * (i3 - d))
+        reach = (i2 / d) * ((d - i1) / (i2 - i1))
+        m = ((i3 - i2) / (i2 - i1)) * ((d - i1) / (i3 - d))
     # |sn u| >= s0 for more than half of [0, K] iff s0 < sn(K/2) = 1 / sqrt(1 + sqrt(1 - m)).
     return 2.0 * reach - 1.0 > math.sqrt(max(0.0, 1.0 - m))
 
