@@ -300,3 +300,45 @@ def test_one_end_is_marked_so_that_the_flip_is_seen(tmp_path):
         assert 0.0 < beyond[0] * toward < 0.02  # just beyond the end, along the bar
         sides.append(float(np.dot(ball - rk @ np.array([0.0, 0.0, 0.1 - com_z]), l_space)))
     assert sides[0] > 0 and min(sides) < 0  # toward L at first, then turned over
+
+
+class _LeftoverNumpy:
+    """numpy, but ``empty`` returns arrays full of 1e308, as leftover bits may be."""
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+    @staticmethod
+    def empty(shape, *args, **kwargs):
+        out = np.empty(shape, *args, **kwargs)
+        if out.dtype.kind == "f":
+            out.fill(1e308)
+        return out
+
+
+def test_the_surface_draws_whatever_new_arrays_hold(monkeypatch):
+    """matplotlib's Poly3DCollection keeps polygons of several lengths in an array from
+    np.empty and projects its unused entries too (matplotlib 3.11): leftover bits overflowed now
+    and then, numpy's RuntimeWarning at draw time (an error here: pytest's filterwarnings). The
+    capped T-handle's polygons have 3 to 6 vertices; animate hands them over with one length
+    (vertices repeated in order): with np.empty's arrays full of 1e308 in matplotlib's 3-D
+    module, every frame draws without a warning, each polygon with its own vertices."""
+    from mpl_toolkits.mplot3d import art3d
+
+    body = t_handle()
+    sol = ph.simulate(body, [0.3, 10.0, 0.2], np.linspace(0.0, 1.0, 11))
+    monkeypatch.setattr(art3d, "np", _LeftoverNumpy())
+    anim = ph.plot.animate(sol, body, frames=3)
+    anim.to_jshtml()
+    surface = next(c for c in anim._fig.axes[0].collections if c.get_gid() == "body")
+    faces = np.asarray(surface._faces)  # the 3-D polygons matplotlib holds, in body axes
+    r = Rotation.from_quat(sol.quaternion[anim.frame_indices[-1]]).as_matrix()
+    lengths = {len(q) for q in faces}
+    assert len(lengths) == 1 and np.all(np.abs(faces) < 1.0), lengths
+    # Each drawn polygon, back in body axes, lies on one solid's surface: its distinct
+    # vertices are 3 or more, in a plane (a face of the cylinders' polygonal surfaces).
+    for q in faces @ r:
+        distinct = np.unique(q.round(12), axis=0)
+        assert len(distinct) >= 3
+        centred = distinct - distinct.mean(axis=0)
+        assert np.linalg.svd(centred, compute_uv=False)[-1] < 1e-9

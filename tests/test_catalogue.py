@@ -1941,6 +1941,12 @@ val(area, "masked fields with nothing masked",
     lambda: INV.relative_drift(trajectory_like(masked(_E, [0, 0, 0]), _LB)),
     keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0]}),
     "the data of an unmasked masked array")
+for _k in (1000, -1000):  # |L|^2 beyond doubles: the norms overflowed, or underflowed to 0
+    val(area, f"relative_drift of given fields times 2^{_k}",
+        lambda k=_k: INV.relative_drift(trajectory_like(*(np.ldexp(x, k) for x in (_E, _LB, _LS)))),
+        keys_values({"energy": [0.0, 0.5, 0.5], "angular_momentum_norm": [0.0, 1.0, 1.0],
+                     "angular_momentum_space": [0.0, 0.0, 1.0]}),
+        "exact quotients (the power of two cancels)")
 
 # --- numbers beyond double precision, masked arrays: every way arrays and numbers come in ------
 
@@ -2063,6 +2069,66 @@ for _label, _copy in (("pickle", lambda b: pickle.loads(pickle.dumps(b))),
     val(area, f"BodyFixed after {_label} stays read-only",
         lambda c=_copy: c(TQ.BodyFixed([0.0, 0.0, 1.0])).torque.flags.writeable,
         lambda w: assert_true(w is False, repr(w)), "models are immutable")
+# Equality of the result types: every field equal, arrays exactly, NaN equal to NaN in the same
+# place (polhode._equality); not hashable. Was: Analysis == Analysis raised numpy's "truth value
+# of an array is ambiguous", Principal == Principal was identity (False for a copy).
+area = "results"
+
+
+def compared(make):
+    """A row's call: for each (label, a, b, expected) of ``make()``, a == b and a != b."""
+    return lambda: [(label, a == b, a != b, expected) for label, a, b, expected in make()]
+
+
+def as_expected(results):
+    for label, eq, ne, expected in results:
+        assert eq is expected and ne is (not expected), (label, eq, ne)
+
+
+def _analyses():
+    a = ph.analyze(M123, W)
+    return [("the same call", a, ph.analyze(M123, W), True),
+            ("pickled", a, pickle.loads(pickle.dumps(a)), True),
+            ("deep-copied", a, copy.deepcopy(a), True),
+            ("another omega", a, ph.analyze(M123, W * 2), False),
+            ("another body", a, ph.analyze((1.0, 2.0, 3.5), W), False),
+            ("a str", a, "an Analysis", False), ("None", a, None, False)]
+
+
+def _principals():
+    p = ph.principal(SPD)
+    batch = ph.principal(np.stack([SPD, np.eye(3)]))
+    with_nan = ph.Principal(np.array([NAN, 1.0, 2.0]), np.eye(3), np.array([1, 1, 1]))
+    signed = ph.Principal(np.array([0.0, 1.0, 2.0]), np.eye(3), np.array([1, 1, 1]))
+    return [("the same tensor", p, ph.principal(SPD), True),
+            ("pickled", p, pickle.loads(pickle.dumps(p)), True),
+            ("another tensor", p, ph.principal(np.diag([1.0, 2.0, 3.5])), False),
+            ("a batch", p, batch, False),
+            ("the same batch", batch, ph.principal(np.stack([SPD, np.eye(3)])), True),
+            ("its tuple", p, tuple(p), False), ("(moments, axes)", p, (p.moments, p.axes), False),
+            ("NaN in the same place", with_nan, copy.deepcopy(with_nan), True),
+            ("0.0 and -0.0", signed,
+             ph.Principal(np.array([-0.0, 1.0, 2.0]), np.eye(3), np.array([1, 1, 1])), True),
+            ("another multiplicity", signed,
+             ph.Principal(signed.moments, signed.axes, np.array([1, 2, 2])), False)]
+
+
+val(area, "Analysis ==", compared(_analyses), as_expected,
+    "the same call, its copies: equal; another omega or body, another type: not")
+val(area, "Principal ==", compared(_principals), as_expected,
+    "the same tensor, copies, NaN in the same place, 0.0 and -0.0: equal; another tensor, "
+    "a batch, a tuple, another multiplicity: not")
+err(area, "hash(Analysis)", lambda: hash(ph.analyze(M123, W)), TypeError, None,
+    fragment="unhashable")
+err(area, "hash(Principal)", lambda: hash(ph.principal(SPD)), TypeError, None,
+    fragment="unhashable")
+val(area, "Trajectory == its copy",
+    compared(lambda: [("deep-copied", *(lambda t: (t, copy.deepcopy(t)))(
+        ph.simulate(M123, W, TIMES)), True)]), as_expected,
+    "equal motion, stats apart", xfail="Trajectory's == needs python/polhode/simulation.py "
+    "(eq=False and __eq__ by _equality.fields_equal over its motion, stats left out), which is "
+    "being reworked elsewhere: it raises numpy's 'truth value of an array is ambiguous'")
+area = "body"
 err(area, "inertia_about point masked", lambda: BOX.inertia_about(masked([0, 0, 1], [1, 0, 0])),
     ph.ArgumentError, "point")
 err(area, "translated masked", lambda: BOX.translated(masked([0, 0, 1], [0, 1, 0])),
@@ -2294,6 +2360,15 @@ val(area, "a diagonal tensor as the body", lambda: ph.analyze(np.diag([3.0, 1.0,
     lambda a: (assert_true(a.regime == "steady_intermediate", a.regime),
                close(a.energy, 1.0, 0.0), close(a.angular_momentum_norm, 2.0, 0.0)),
     "a spin about z, I_zz = 2 the intermediate moment: steady, T = 1, |L| = 2")
+# At the ends of double precision: products of two moments of 2^+-1000 are beyond doubles
+# (turns_over was False at 2^1000, a ZeroDivisionError at 2^-1000); the motion does not depend
+# on the scale of the moments.
+for _k in (1000, -1000):
+    _SCALED = tuple(math.ldexp(x, _k) for x in M123)
+    val(area, f"moments 2^{_k} [1, 2, 3] that turn over",
+        lambda m=_SCALED: ph.analyze(m, [0.1, 1.0, 0.2]),
+        analysis_check(_SCALED, [0.1, 1.0, 0.2]),
+        "exact invariants, turns_over_exact and exact_period in rationals (any scale)")
 
 # --- perturbation: argument types and masked arrays ---------------------------------------------
 
@@ -2723,8 +2798,30 @@ for _label, _call, _error, _argument in (
      ph.NonFiniteError, "scale"),
     ("from_file neither", lambda: ph.Body.from_file(at("tet.off")), ph.ArgumentError,
      "density"),
+    # A scale whose mesh is beyond double precision, where the file's own is not, is the
+    # scale's fault (issue 28: a FileFormatError naming the file).
+    ("from_file scale 1e200, mass", lambda: ph.Body.from_file(at("tet.off"), mass=1.0,
+                                                             scale=1e200), ph.ArgumentError,
+     "scale"),
+    ("from_file scale 1e200, density", lambda: ph.Body.from_file(at("tet.off"), density=1.0,
+                                                                scale=1e200), ph.ArgumentError,
+     "scale"),
+    ("from_file scale 1e-200, density (the mass underflows)",
+     lambda: ph.Body.from_file(at("tet.off"), density=1.0, scale=1e-200), ph.ArgumentError,
+     "scale"),
+    ("read_mesh scale 1e200", lambda: PIO.read_mesh(at("tet.off"), mass=1.0, scale=1e200),
+     ph.ArgumentError, "scale"),
+    ("read_mesh scale (1e200, 1, 1) (flat to rounding)",
+     lambda: PIO.read_mesh(at("tet.off"), mass=1.0, scale=(1e200, 1, 1)), ph.ArgumentError,
+     "scale"),
+    ("read_mesh scale 1e308, density", lambda: PIO.read_mesh(at("tet.off"), density=1.0,
+                                                             scale=1e308), ph.ArgumentError,
+     "scale"),
 ):
     err(area, _label, _call, _error, _argument)
+val(area, "from_file scale 1e100, mass 1", lambda: ph.Body.from_file(at("tet.off"), mass=1.0,
+                                                                     scale=1e100),
+    mesh_file_check(np.multiply(_TET, 1e100), 1.0), "Tonon, the vertices times 1e100")
 err(area, "read_mesh a missing file", lambda: PIO.read_mesh(at("missing.off"), mass=1.0),
     FileNotFoundError, None, fragment="missing.off")
 err(area, "from_file a missing file", lambda: ph.Body.from_file(at("missing.stl"), mass=1.0),

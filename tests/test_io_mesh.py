@@ -306,11 +306,15 @@ def test_total_mass_at_far_scales_against_the_closed_form(tmp_path, scale):
     assert difference <= 1e-14 * np.abs(direct.inertia).max()
 
 
-def test_total_mass_beyond_double_precision_names_the_file_and_scale(tmp_path):
+def test_total_mass_beyond_double_precision_names_the_scale_and_the_file(tmp_path):
+    """The box of mass 1 at scale 1e160 overflows where the file's own box does not: the
+    scale's fault (an ArgumentError naming it), the file and the reason in the message."""
     path = tmp_path / "box.off"
     write_off(path, box_vertices(SIZE), CUBE_F)
-    with pytest.raises(ph.FileFormatError, match="this scale, the moments of inertia overflow"):
+    overflow = "this scale, the moments of inertia overflow"
+    with pytest.raises(ph.ArgumentError, match=overflow) as info:
         ph.Body.from_file(path, mass=1.0, scale=1e160)
+    assert info.value.argument == "scale" and str(path) in str(info.value), info.value
 
 
 def test_ascii_stl_with_two_solids(tmp_path):

@@ -527,6 +527,284 @@ err("scene/path=5", lambda: SCENE(bar_traj(), bar(), frames=2, path=5), TypeErro
 
 
 # ---------------------------------------------------------------------------------------------
+# A second probe (issue 28's leftovers): every public function, every argument, with wrong
+# types, masked values, numbers beyond double precision and out of range.
+# ---------------------------------------------------------------------------------------------
+
+BIG = 2**2000  # beyond double precision: float(BIG) raises OverflowError
+def masked(values, mask):
+    return np.ma.array(np.asarray(values), mask=mask)
+
+
+def ball():
+    """A body with a round part, whose surface depends on the resolution."""
+    return cached("ball", lambda: ph.Body.sphere(1.0, 0.1))
+
+
+def ball_traj():
+    return cached("ball_traj", lambda: ph.simulate(ball(), [0.0, 0.0, 1.0], TIMES[:41]))
+
+
+def folder():
+    return tempfile.mkdtemp(prefix="polhode-plot-errors-")
+
+
+def frames_drawn(indices):
+    """The output times of the frames (an animation's or a scene's), and the frames drawn (an
+    animation never rendered warns when it is collected, in whatever test runs then)."""
+
+    def check(result):
+        is_animation = hasattr(result, "frame_indices")
+        got = result.frame_indices if is_animation else result.layout.meta["frame_indices"]
+        np.testing.assert_array_equal(got, indices)
+        drawn(result)
+
+    return check
+
+
+# The trajectory argument: a Body or None where a trajectory is expected (issue 28's list).
+for _name, _call in TRAJECTORY_PLOTS.items():
+    err(f"{_name}/traj=None", lambda c=_call: c(None), TypeError, "traj")
+    err(f"{_name}/traj=a Body", lambda c=_call: c(bar()), TypeError, "traj")
+# The floor: masked, beyond double precision.
+for _name, _call in FLOOR_PLOTS.items():
+    err(f"{_name}/floor=np.ma.masked", lambda c=_call: c(np.ma.masked), ph.ArgumentError,
+        "floor")
+    err(f"{_name}/floor=2**2000", lambda c=_call: c(BIG), ph.NonFiniteError, "floor")
+
+# polhode: a masked body (its masked entries are no data), the number of points, |L| whose
+# energies are beyond double precision, trajectories at the ends of double precision.
+err("polhode/body masked", lambda: PO(masked(MOMENTS, [0, 1, 0])), ph.ArgumentError, "body")
+ok("polhode/body masked, nothing masked", lambda: PO(masked([3.0, 2.0, 1.0], [0, 0, 0])),
+   same_polhode_as_moments([3.0, 2.0, 1.0]))
+err("polhode/body='abc'", lambda: PO("abc"), TypeError, "body")
+err("polhode/n=10**9", lambda: PO(MOMENTS, n=10**9), ph.ArgumentError, "n")
+err("polhode/n=2**62", lambda: PO(MOMENTS, n=2**62), ph.ArgumentError, "n")
+ok("polhode/n=np.array(400)", lambda: PO(MOMENTS, n=np.array(400)),
+   same_polhode_as_moments(MOMENTS))
+err("polhode/|L|=2**2000", lambda: PO(MOMENTS, BIG), ph.NonFiniteError,
+    "angular_momentum_norm")
+err("polhode/|L| masked", lambda: PO(MOMENTS, np.ma.masked), ph.ArgumentError,
+    "angular_momentum_norm")
+err("polhode/energies masked", lambda: PO(MOMENTS, 1.0, masked([0.3, 0.4], [0, 1])),
+    ph.ArgumentError, "energies")
+err("polhode/energies=[2**2000]", lambda: PO(MOMENTS, 1.0, [BIG]), ph.NonFiniteError,
+    "energies")
+err("polhode_curves/n=10**9", lambda: PC(MOMENTS, 1.0, 0.3, n=10**9), ph.ArgumentError, "n")
+err("polhode_curves/moments masked", lambda: PC(masked(MOMENTS, [1, 0, 0]), 1.0, 0.3),
+    ph.ArgumentError, "moments")
+err("separatrix_curves/n=10**9", lambda: SC(MOMENTS, 1.0, n=10**9), ph.ArgumentError, "n")
+err("invariable_plane_basis/hint masked",
+    lambda: IPB([0.0, 0.0, 1.0], masked([1, 0, 0], [1, 0, 0])), ph.ArgumentError, "hint")
+
+# work_precision: a series' masked or overflowing values name `results`.
+err("work_precision/times masked", lambda: WP({"a": (masked([1.0, 2.0], [0, 1]), [1e-3, 1e-6])}),
+    ph.ArgumentError, "results")
+err("work_precision/errors masked", lambda: WP({"a": ([1.0, 2.0], masked([1e-3, 0.0], [1, 0]))}),
+    ph.ArgumentError, "results")
+err("work_precision/times 2**2000", lambda: WP({"a": ([1.0, BIG], [1e-3, 1e-6])}),
+    ph.NonFiniteError, "results")
+err("work_precision/errors 2**2000", lambda: WP({"a": ([1.0, 2.0], [BIG, 1e-6])}),
+    ph.NonFiniteError, "results")
+
+# perturbation_error(s): no times, masked and overflowing values, a spin whose motion
+# overflows (the spin's fault, not eps'), a direction beyond double precision.
+err("perturbation_error/t=[]", lambda: PE(MOMENTS, eps=[1e-3], t=[]), ph.ShapeError, "t")
+err("perturbation_errors/t=[]", lambda: PES(MOMENTS, 0, [1e-3], t=[]), ph.ShapeError, "t")
+err("perturbation_error/t=2**2000", lambda: PE(MOMENTS, eps=[1e-3], t=BIG), ph.NonFiniteError,
+    "t")
+err("perturbation_error/t masked", lambda: PE(MOMENTS, eps=[1e-3], t=masked([0.0, 1.0], [0, 1])),
+    ph.ArgumentError, "t")
+err("perturbation_error/eps masked", lambda: PE(MOMENTS, eps=masked([1e-3, 1e-2], [0, 1])),
+    ph.ArgumentError, "eps")
+err("perturbation_error/spin masked", lambda: PE(MOMENTS, eps=[1e-3], spin=np.ma.masked),
+    ph.ArgumentError, "spin")
+err("perturbation_error/spin=1e300", lambda: PE(MOMENTS, eps=[1e-3], spin=1e300),
+    ph.ArgumentError, "spin")
+err("perturbation_error/spin=1e154", lambda: PE(MOMENTS, eps=[1e-3], spin=1e154),
+    ph.ArgumentError, "spin")
+err("perturbation_errors/spin=1e300", lambda: PES(MOMENTS, 0, [1e-3], spin=1e300),
+    ph.ArgumentError, "spin")
+err("perturbation_error/direction 1e300, eps by default",
+    lambda: PE(MOMENTS, direction=[1e300, 1e300, 0.0]), ph.ArgumentError, "direction")
+err("perturbation_error/direction masked",
+    lambda: PE(MOMENTS, eps=[1e-3], direction=masked([1.0, 0.0, 0.0], [0, 1, 0])),
+    ph.ArgumentError, "direction")
+err("perturbation_error/axis=np.int64(3)", lambda: PE(MOMENTS, axis=np.int64(3)),
+    ph.ArgumentError, "axis")
+
+# animate and scene: frames given as a masked array, the resolution, the interval and the
+# dpi of a saved file, a path where nothing can be written, trajectories at the ends.
+for _name, _call in (("animate", lambda **k: AN(bar_traj(), bar(), **k)),
+                     ("scene", lambda **k: SCENE(bar_traj(), bar(), **k))):
+    err(f"{_name}/frames masked", lambda c=_call: c(frames=np.ma.array([0, 5], mask=[0, 1])),
+        ph.ArgumentError, "frames")
+    err(f"{_name}/frames np.ma.masked 0-d", lambda c=_call: c(frames=np.ma.array(2, mask=True)),
+        ph.ArgumentError, "frames")
+    ok(f"{_name}/frames masked, nothing masked",
+       lambda c=_call: c(frames=np.ma.array([0, 5], mask=[0, 0])), frames_drawn([0, 5]))
+    ok(f"{_name}/frames=np.array(2)", lambda c=_call: c(frames=np.array(2)),
+       frames_drawn([0, 40]))
+    err(f"{_name}/path in a missing folder",
+        lambda c=_call: c(frames=2, path=folder() + "/missing/x.gif"), FileNotFoundError, "path")
+    err(f"{_name}/path=''", lambda c=_call: c(frames=2, path=""), ph.ArgumentError, "path")
+    err(f"{_name}/path a folder", lambda c=_call: c(frames=2, path=folder()), ph.ArgumentError,
+        "path")
+err("animate/resolution=10**6", lambda: AN(ball_traj(), ball(), frames=2, resolution=10**6),
+    ph.ArgumentError, "resolution")
+err("scene/resolution=10**6", lambda: SCENE(ball_traj(), ball(), frames=2, resolution=10**6),
+    ph.ArgumentError, "resolution")
+err("scene/resolution=2**62", lambda: SCENE(ball_traj(), ball(), frames=2, resolution=2**62),
+    ph.ArgumentError, "resolution")
+ok("animate/resolution=360", lambda: AN(ball_traj(), ball(), frames=1, resolution=360), drawn)
+err("animate/interval=1e300", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), interval=1e300),
+    ph.ArgumentError, "interval")
+err("animate/interval=1e6", lambda: AN(bar_traj(), bar(), frames=2, interval=1e6),
+    ph.ArgumentError, "interval")
+err("animate/dpi=1e300", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=1e300),
+    ph.ArgumentError, "dpi")
+err("animate/dpi=5", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=5.0),
+    ph.ArgumentError, "dpi")
+err("animate/dpi=1e-300", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=1e-300),
+    ph.ArgumentError, "dpi")
+err("animate/dpi masked", lambda: AN(bar_traj(), bar(), frames=2, path=gif(), dpi=np.ma.masked),
+    ph.ArgumentError, "dpi")
+err("animate/origin masked", lambda: AN(bar_traj(), bar(), frames=2,
+                                        origin=masked([0.0, 0.0, 0.1], [0, 0, 1])),
+    ph.ArgumentError, "origin")
+err("animate/body masked", lambda: AN(bar_traj(), masked(np.diag(bar().inertia), [0, 1, 0]),
+                                      frames=2), ph.ArgumentError, "body")
+
+
+# ---------------------------------------------------------------------------------------------
+# At the ends of double precision: trajectories of moments 2^+-1000 [1, 2, 3] (their squares,
+# L^2 and |L|'s own, are beyond doubles), huge and tiny |L|, directions, hints and rates. The
+# reference of a drawing there is the equation it must satisfy, in units of that power of two
+# (exact), or the rationals of the motion (which do not depend on the scale).
+# ---------------------------------------------------------------------------------------------
+
+SCALE = 1000  # the trajectories at the ends: moments 2^+-SCALE [1, 2, 3]
+
+
+def scaled_traj(k):
+    """The motion of the moments 2^k [1, 2, 3] from OMEGA0 (omega does not depend on k)."""
+    return cached(f"scaled_traj{k}",
+                  lambda: ph.simulate(np.ldexp(MOMENTS, k), OMEGA0, TIMES))
+
+
+def on_the_polhode(points, moments, ell, energy, k):
+    """Every point on the sphere |L| = ell and the ellipsoid sum L_i^2 / I_i = 2 T, checked in
+    units of 2^k (exact): the equations of the polhode."""
+    u = np.ldexp(np.asarray(points, dtype=float), -k)
+    m = np.ldexp(np.asarray(moments, dtype=float), -k)
+    np.testing.assert_allclose(np.sqrt(np.sum(u * u, axis=-1)), math.ldexp(ell, -k), rtol=1e-12)
+    np.testing.assert_allclose(np.sum(u * u / m, axis=-1), 2 * math.ldexp(energy, -k),
+                               rtol=1e-12)
+
+
+def polhode_trajectory_scaled(k):
+    """The trajectory drawn on the polhode of the moments 2^k [1, 2, 3] is on its sphere and
+    ellipsoid (its own |L| and T at t0, from OMEGA0 in exact rationals)."""
+
+    def check(ax):
+        from fractions import Fraction
+
+        (line,) = lines(ax, "trajectory")
+        w = [Fraction(x) for x in OMEGA0]
+        m = [Fraction(x) for x in MOMENTS]
+        l2 = sum((mi * wi) ** 2 for mi, wi in zip(m, w, strict=True))
+        energy = sum(mi * wi * wi for mi, wi in zip(m, w, strict=True)) / 2
+        on_the_polhode(np.column_stack(line.get_data_3d()), np.ldexp(MOMENTS, k),
+                       math.ldexp(math.sqrt(l2), k), math.ldexp(float(energy), k), k)
+
+    return check
+
+
+def dissipation_levels_exact(ax):
+    """Torque-free: T and |L| stay at their first values; the separatrix at L^2 / (2 I2 T) and
+    the spin about axis 3 at L^2 / (2 I3 T), from OMEGA0 in exact rationals (they do not
+    depend on the moments' scale)."""
+    from fractions import Fraction
+
+    w = [Fraction(x) for x in OMEGA0]
+    m = [Fraction(x) for x in MOMENTS]
+    l2 = sum((mi * wi) ** 2 for mi, wi in zip(m, w, strict=True))
+    energy = sum(mi * wi * wi for mi, wi in zip(m, w, strict=True)) / 2
+    for gid in ("dissipation:energy", "dissipation:angular_momentum"):
+        np.testing.assert_allclose(lines(ax, gid)[0].get_ydata(), 1.0, rtol=1e-12)
+    for gid, moment in (("dissipation:separatrix", m[1]), ("dissipation:largest_axis", m[2])):
+        level = float(l2 / (2 * moment * energy))
+        np.testing.assert_allclose(lines(ax, gid)[0].get_ydata(), level, rtol=4e-16)
+
+
+def drifts_below(bound):
+    def check(ax):
+        drawn(ax)
+        for line in lines(ax, "drift:"):
+            assert np.max(line.get_ydata()) <= bound, line.get_gid()
+
+    return check
+
+
+def scene_drawn(fig):
+    """Every number of the figure finite, and the body not collapsed to a point."""
+    for trace in fig.data:
+        for axis in "xyz":
+            value = getattr(trace, axis, None)
+            values = np.asarray([] if value is None else value, dtype=float)
+            assert np.all(np.isfinite(values)), (trace.uid, axis)
+    body = np.asarray(fig.data[0].x, dtype=float)
+    assert np.ptp(body) > 0, "the body drawn as a point"
+
+
+err("polhode/|L|=1e300 (T = L^2/2I beyond doubles)", lambda: PO(MOMENTS, 1e300),
+    ph.ArgumentError, "angular_momentum_norm")
+for _k in (SCALE, -SCALE):
+    ok(f"polhode/traj of moments 2^{_k} [1, 2, 3]", lambda k=_k: PO(traj=scaled_traj(k)),
+       polhode_trajectory_scaled(_k))
+err("polhode_curves/moments all equal", lambda: PC([1.0, 1.0, 1.0], 1.0, 0.5), ph.ArgumentError,
+    "moments")
+err("polhode_curves/|L|=1e300", lambda: PC(MOMENTS, 1e300, 0.3), ph.ArgumentError,
+    "angular_momentum_norm")
+err("polhode_curves/|L|=1e-300", lambda: PC(MOMENTS, 1e-300, 0.3), ph.ArgumentError,
+    "angular_momentum_norm")
+ok("polhode_curves/|L| = 2^1000, moments 2^1000 [1, 2, 3] (L^2 beyond doubles, T not)",
+   lambda: PC(np.ldexp(MOMENTS, SCALE), math.ldexp(1.0, SCALE), math.ldexp(0.3, SCALE)),
+   lambda curves: [on_the_polhode(c, np.ldexp(MOMENTS, SCALE), math.ldexp(1.0, SCALE),
+                                  math.ldexp(0.3, SCALE), SCALE) for c in curves])
+ok("invariable_plane_basis/hint=1e300 [1, 1, 0]", lambda: IPB([0.0, 0.0, 1.0], [1e300, 1e300, 0]),
+   lambda basis: np.testing.assert_allclose(
+       basis, [[0.5**0.5, 0.5**0.5, 0.0], [-(0.5**0.5), 0.5**0.5, 0.0], [0.0, 0.0, 1.0]],
+       atol=1e-15))
+# The time plots at the ends of double precision.
+for _k in (SCALE, -SCALE):
+    ok(f"drift/traj of moments 2^{_k} [1, 2, 3]", lambda k=_k: plot.drift(scaled_traj(k)),
+       drifts_below(64 * np.finfo(float).eps))
+    ok(f"dissipation/traj of moments 2^{_k} [1, 2, 3]",
+       lambda k=_k: plot.dissipation(scaled_traj(k)), dissipation_levels_exact)
+
+err("perturbation_error/direction=1e308 [1, 1, 0]",
+    lambda: PE(MOMENTS, eps=[1e-3], direction=[1e308, 1e308, 0.0]), ph.ArgumentError, "eps")
+ok("perturbation_errors/direction 1e300 [1, 1, 0] against eps 1e-303",
+   lambda: PES(MOMENTS, 2, [1e-303], t=1.0, direction=[1e300, 1e300, 0.0]),
+   lambda errors: np.testing.assert_array_less(errors[2], 1e-6))
+for _k in (SCALE, -SCALE):
+    ok(f"animate/traj of moments 2^{_k} [1, 2, 3]",
+       lambda k=_k: AN(scaled_traj(k), frames=2), drawn)
+    ok(f"scene/traj of moments 2^{_k} [1, 2, 3]",
+       lambda k=_k: SCENE(scaled_traj(k), frames=2), scene_drawn)
+err("scene/omega 1e150 in float32", lambda: SCENE(ph.simulate(
+    MOMENTS, [1e150, 1e150, 1e150], np.linspace(0.0, 1e-149, 41)), frames=2), ph.ArgumentError,
+    "dtype")
+err("scene/omega 1e-160 in float32 (drawn as zeros)", lambda: SCENE(ph.simulate(
+    MOMENTS, [1e-160, 1e-160, 1e-160], np.linspace(0.0, 1e161, 41)), frames=2),
+    ph.ArgumentError, "dtype")
+ok("scene/omega 1e150 in float64", lambda: SCENE(ph.simulate(
+    MOMENTS, [1e150, 1e150, 1e150], np.linspace(0.0, 1e-149, 41)), frames=2,
+    dtype=np.float64), scene_drawn)
+
+
+# ---------------------------------------------------------------------------------------------
 # Running the rows, and their outcomes
 # ---------------------------------------------------------------------------------------------
 

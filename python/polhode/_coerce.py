@@ -258,12 +258,23 @@ _I64 = 2**63
 
 
 def as_integer(
-    name: str, value: Any, *, allowed: tuple[int, ...] = (), minimum: int | None = None
+    name: str,
+    value: Any,
+    *,
+    allowed: tuple[int, ...] = (),
+    minimum: int | None = None,
+    maximum: int | None = None,
+    why: str = "",
 ) -> int:
-    """An integer (bool excluded) of 64 bits, as the core takes it: TypeError for other types,
-    PolhodeError outside the range."""
-    if type(value) is int and not allowed and minimum is None and -_I64 <= value < _I64:
-        return value
+    """An integer (bool excluded; a numpy integer, or a 0-d array of one) of 64 bits, as the
+    core takes it: TypeError for other types, ArgumentError outside the range (``allowed``,
+    ``minimum``, ``maximum``, the last one's reason ``why``; a masked value is an
+    ArgumentError as in :func:`unmasked`)."""
+    if type(value) is int and not allowed and minimum is None and maximum is None:
+        if -_I64 <= value < _I64:
+            return value
+    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iu":
+        value = unmasked(name, value)[()]
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"Expected `{name}` to be an integer, got {type(value).__name__}.")
     result = int(value)
@@ -279,6 +290,11 @@ def as_integer(
         )
     if minimum is not None and result < minimum:
         raise ArgumentError(f"Expected `{name}` to be >= {minimum}, got {result}.", argument=name)
+    if maximum is not None and result > maximum:
+        because = f" ({why})" if why else ""
+        raise ArgumentError(
+            f"Expected `{name}` to be <= {maximum}{because}, got {result}.", argument=name
+        )
     return result
 
 

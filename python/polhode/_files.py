@@ -15,9 +15,9 @@ import threading
 from collections.abc import Iterator
 from typing import Any
 
-from polhode.errors import FileFormatError
+from polhode.errors import ArgumentError, FileFormatError
 
-__all__ = ["SWALLOWING", "existing", "fspath", "keeping_interrupts", "require"]
+__all__ = ["SWALLOWING", "existing", "fspath", "keeping_interrupts", "require", "writable"]
 
 
 def fspath(path: Any, name: str = "path") -> str:
@@ -33,6 +33,22 @@ def existing(path: str) -> str:
         raise FileNotFoundError(2, "No such file", path)
     if os.path.isdir(path):
         raise FileFormatError(f"{path}: is a folder, expected a file.", path=path)
+    return path
+
+
+def writable(path: str, name: str = "path") -> str:
+    """``path`` if a file can be written there, checked before the work that writes it:
+    ArgumentError naming ``name`` for an empty name or a folder, FileNotFoundError (naming
+    ``name``) where its folder does not exist."""
+    if not path:
+        raise ArgumentError(f"Expected `{name}` to be a file name, got ''.", argument=name)
+    if os.path.isdir(path):
+        raise ArgumentError(
+            f"Expected `{name}` to be a file name, got the folder {path!r}.", argument=name
+        )
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(2, f"No such folder to write `{name}` in", folder)
     return path
 
 

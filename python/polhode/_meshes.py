@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from polhode import _core
 from polhode._coerce import as_flag, as_scale, density_or_mass
 from polhode._files import existing, fspath, keeping_interrupts, require
-from polhode.errors import FileFormatError, PolhodeError
+from polhode.errors import ArgumentError, FileFormatError, PolhodeError
 
 __all__ = [
     "MESH_FORMATS",
@@ -158,7 +158,55 @@ def read_bodies(
     as_flag("fix_winding", fix_winding)
     factor = as_scale(scale)
     parts = mesh_parts(path, factor)
+    try:
+        return _bodies(body_type, path, parts, rho, total, shell, fix_winding)
+    except PolhodeError as error:
+        if np.all(factor == 1.0) or not _fits_unscaled(
+            body_type, path, parts, factor, rho, total, shell, fix_winding
+        ):
+            raise
+        # The file's own mesh is within double precision (and whole), this scale's is not: the
+        # scale is at fault (it used to be a FileFormatError naming the file).
+        raise ArgumentError(
+            f"Invalid `scale` {factor.tolist()}: {error.message}", argument="scale"
+        ) from error
+
+
+def _fits_unscaled(
+    body_type: Any,
+    path: str,
+    parts: list[tuple[str, NDArray[np.float64], NDArray[np.int64]]],
+    factor: NDArray[np.float64],
+    rho: float | None,
+    total: float | None,
+    shell: bool,
+    fix_winding: bool,
+) -> bool:
+    """Whether the file's meshes at scale 1 (the scaled vertices divided by the scale, to
+    rounding) make bodies: where they do, what failed is the scale's."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        unscaled = [(name, v / factor, f) for name, v, f in parts]
+    if not all(np.all(np.isfinite(v)) for _, v, _ in unscaled):
+        return False
+    try:
+        _bodies(body_type, path, unscaled, rho, total, shell, fix_winding)
+    except PolhodeError:
+        return False
+    return True
+
+
+def _bodies(
+    body_type: Any,
+    path: str,
+    parts: list[tuple[str, NDArray[np.float64], NDArray[np.int64]]],
+    rho: float | None,
+    total: float | None,
+    shell: bool,
+    fix_winding: bool,
+) -> dict[str, Any]:
+    """The bodies of the meshes ``parts`` at density ``rho``, or sharing the mass ``total``."""
     if total is None:
+        assert rho is not None
         return {
             name: mesh_body(body_type, path, name, v, f, rho, shell, fix_winding)
             for name, v, f in parts

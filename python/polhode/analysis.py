@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from fractions import Fraction
 from typing import Any
 
@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 from polhode import _core, _display
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_scalar
+from polhode._equality import fields_equal
 from polhode._inputs import EYE as _EYE
 from polhode._inputs import core_body as _simulation_body
 from polhode._inputs import principal_frame as _principal_frame
@@ -23,9 +24,12 @@ from polhode.rotors import SphericalDamper, as_rotors, nutation_rate
 __all__ = ["Analysis", "analyze"]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Analysis:
     """What can be said of a torque-free motion without integrating it.
+
+    Two analyses are equal (``==``) when every field is, arrays exactly (NaN equal to NaN in
+    the same place): an analysis equals its copies and a repeated run's; it is not hashable.
 
     Attributes
     ----------
@@ -148,6 +152,11 @@ class Analysis:
     nutation_time_constant: float | None = None
     description: str = ""
 
+    def __eq__(self, other: object) -> Any:
+        return fields_equal(self, other, tuple(f.name for f in fields(self)))
+
+    __hash__ = None  # type: ignore[assignment]  # arrays: equal by value, so not hashable
+
     def _summary(self) -> list[tuple[str, str]]:
         linearized = ", ".join(
             f"{k}={v!r}" if isinstance(v, str) else f"{k}={_display.number(v)}"
@@ -226,12 +235,14 @@ def _turns_over(regime: str, mom: list[float], energy: float, norm: float) -> bo
         return False
     i1, i2, i3 = mom
     d = (norm / (2.0 * energy)) * norm  # |L|^2 / 2T, between I1 and I3
+    # Products of ratios, never of two moments: those overflowed for moments of 1e200
+    # (turns_over False) and underflowed for 1e-200, or [1, 1e161, 2] (a ZeroDivisionError).
     if regime == "about_largest_axis":  # L_2 = A sn, L_1 = .. cn, L_3 = .. dn
-        reach = i2 * (i3 - d) / (d * (i3 - i2))
-        m = (i2 - i1) * (i3 - d) / ((i3 - i2) * (d - i1))
+        reach = (i2 / d) * ((i3 - d) / (i3 - i2))
+        m = ((i2 - i1) / (i3 - i2)) * ((i3 - d) / (d - i1))
     else:
-        reach = i2 * (d - i1) / (d * (i2 - i1))
-        m = (i3 - i2) * (d - i1) / ((i2 - i1) * (i3 - d))
+        reach = (i2 / d) * ((d - i1) / (i2 - i1))
+        m = ((i3 - i2) / (i2 - i1)) * ((d - i1) / (i3 - d))
     # |sn u| >= s0 for more than half of [0, K] iff s0 < sn(K/2) = 1 / sqrt(1 + sqrt(1 - m)).
     return 2.0 * reach - 1.0 > math.sqrt(max(0.0, 1.0 - m))
 

@@ -566,6 +566,9 @@ class Body:
         polhode.errors.FileFormatError
             Not a mesh, no triangles, an open mesh (without ``shell=True``), an inside-out or
             zero-volume one; the message names the file and the part.
+        polhode.errors.ArgumentError
+            A ``scale`` whose mesh is beyond double precision (or flat to rounding) where the
+            file's own is not, or a bad ``density``, ``mass`` or ``scale``.
 
         Examples
         --------

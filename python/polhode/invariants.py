@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from polhode._chunks import CHUNK, spans
 from polhode._coerce import as_float_array
+from polhode._norms import norms
 from polhode.errors import PolhodeError, ShapeError
 
 __all__ = ["angular_momentum_space", "max_relative_drift", "relative_drift"]
@@ -140,17 +141,17 @@ def relative_drift(traj: Any) -> dict[str, Array]:
     space_rows = None if space is None else space.reshape(*rows.shape, 3)
     for bodies in spans(len(rows), max(1, CHUNK // max(times, 1))):
         e0 = rows[bodies, :1]
-        n0 = np.linalg.norm(body_rows[bodies, :1], axis=-1)
+        n0 = norms(body_rows[bodies, :1])
         s0 = None if space_rows is None else space_rows[bodies, :1, :]
         for span in spans(times):
             e = rows[bodies, span]
             flat["energy"][bodies, span] = _against_first(np.abs(e - e0), e0)
-            n = np.linalg.norm(body_rows[bodies, span], axis=-1)
+            n = norms(body_rows[bodies, span])
             flat["angular_momentum_norm"][bodies, span] = _against_first(np.abs(n - n0), n0)
             if space_rows is not None:
                 flat["angular_momentum_space"][bodies, span] = _against_first(
-                    np.linalg.norm(space_rows[bodies, span] - s0, axis=-1),
-                    np.linalg.norm(s0, axis=-1),
+                    norms(space_rows[bodies, span] - s0),
+                    norms(s0),
                 )
     return out
 

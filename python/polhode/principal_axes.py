@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from polhode import _core, _display
 from polhode._coerce import as_array, as_flag, as_float_array, as_scalar, unmasked
+from polhode._equality import fields_equal
 from polhode.errors import PolhodeError, ShapeError
 
 if TYPE_CHECKING:
@@ -22,7 +23,9 @@ __all__ = ["Principal", "point_masses_inertia", "principal"]
 class Principal:
     """Principal moments and axes of an inertia tensor.
 
-    Unpacks as ``moments, axes = p``.
+    Unpacks as ``moments, axes = p``. Two are equal (``==``) when their moments, axes and
+    multiplicities are, exactly (NaN equal to NaN in the same place): a Principal equals its
+    copies and a repeated solve's; it is not hashable.
 
     Attributes
     ----------
@@ -65,6 +68,11 @@ class Principal:
         self.moments = moments
         self.axes = axes
         self.multiplicity = multiplicity
+
+    def __eq__(self, other: object) -> Any:
+        return fields_equal(self, other, self.__slots__)
+
+    __hash__ = None  # type: ignore[assignment]  # arrays: equal by value, so not hashable
 
     def __reduce__(self) -> tuple[type[Principal], tuple[Any, ...]]:
         # Pickling and copying at every protocol (a class with __slots__ has no default below

@@ -63,7 +63,8 @@ def read_mesh(
         Not a mesh of a known format, no triangles, or a part that is open (unless
         ``shell=True``), inside out or of zero volume; the message names the file and the part.
     polhode.errors.ArgumentError, NonPositiveError, NonFiniteError
-        Bad ``density``, ``mass`` or ``scale``.
+        Bad ``density``, ``mass`` or ``scale``; an ArgumentError naming ``scale`` where the
+        scaled mesh is beyond double precision (or flat to rounding) and the file's own is not.
 
     Examples
     --------

@@ -10,7 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _shapes
-from polhode._coerce import as_integer
+from polhode._coerce import as_integer, unmasked
+from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._axes import one_trajectory
 from polhode.plot._labels import AXIS_ROLES
@@ -54,6 +55,7 @@ __all__ = [
     "CAP",
     "L_TOLERANCE",
     "MARK_COLOR",
+    "MAX_RESOLUTION",
     "MAX_TURN",
     "MIN_TIMES",
     "PART_COLORS",
@@ -62,6 +64,8 @@ __all__ = [
     "arrow_head",
     "body_mesh",
     "capped_polygons",
+    "equal_lengths",
+    "check_resolution",
     "check_trajectory",
     "fan_faces",
     "frame_indices",
@@ -80,6 +84,10 @@ MAX_TURN = 20.0
 
 #: Fewer output times than this, and :func:`scene` warns that they cannot draw the motion.
 MIN_TIMES = 10
+
+#: The most segments around a circle (``resolution`` of :func:`scene` and :func:`animate`): one
+#: per degree. A sphere of this resolution has 64,800 faces, in every frame.
+MAX_RESOLUTION = 360
 
 #: Relative change of L in space above which the figure says that L is not conserved.
 L_TOLERANCE = 1e-6
@@ -107,6 +115,13 @@ def check_trajectory(trajectory: Any) -> Trajectory:
     return trajectory
 
 
+def check_resolution(resolution: Any) -> int:
+    """Segments around a circle: an integer from 6 to MAX_RESOLUTION."""
+    return as_integer(
+        "resolution", resolution, minimum=6, maximum=MAX_RESOLUTION, why="one segment a degree"
+    )
+
+
 def frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
     """Indices into the ``count`` output times: ``frames`` evenly spaced ones (a number, at
     least 1), or those given (integers from -count to count - 1)."""
@@ -121,7 +136,7 @@ def frame_indices(frames: Any, count: int) -> NDArray[np.int64]:
         raise TypeError(
             f"Expected `frames` to be a number of frames or indices, got {type(frames).__name__}."
         )
-    indices = np.asarray(frames)
+    indices = np.asarray(unmasked("frames", frames))
     if indices.size == 0:
         raise ArgumentError(
             "Expected `frames` to be a non-empty array of output-time indices.", argument="frames"
@@ -290,12 +305,13 @@ def decimated(
 
 
 def inertia_box(tensor: Array) -> list[Array]:
-    """Faces of the uniform cuboid with these principal moments (up to a common scale: its
-    mass is unknown), along the principal axes; sides a_k^2 ~ I_i + I_j - I_k (a thin side
-    where the moments break the triangle inequality)."""
+    """Faces of the uniform cuboid with these principal moments, along the principal axes;
+    sides a_k^2 ~ I_i + I_j - I_k (a thin side where the moments break the triangle
+    inequality), up to a common scale (its mass is unknown): the longest side 1, whatever the
+    size of the moments (1e300 or 1e-300)."""
     moments, axes = np.linalg.eigh(tensor)
     squares = np.sum(moments) - 2.0 * moments
-    squares = np.maximum(squares, 1e-4 * float(np.max(squares)))
+    squares = np.maximum(squares / float(np.max(squares)), 1e-4)
     shape = _shapes.part("cuboid", size=np.sqrt(squares))
     return _shapes.surface(_shapes.moved(shape, axes, np.zeros(3)) or ())
 
@@ -382,9 +398,7 @@ def marked_end(
     vertices, faces, source = cut_end(vertices, faces, along - level)
     corners = vertices[faces]
     capped = corners.mean(axis=1) @ direction > level
-    areas = np.linalg.norm(
-        np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
-    )
+    areas = norms(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
     weights = areas * capped
     if weights.sum() > 0:
         centre = (corners.mean(axis=1) * weights[:, None]).sum(axis=0) / weights.sum()
@@ -420,6 +434,34 @@ def _clipped(polygon: Array, signed: Array, above: bool) -> Array:
             t = signed[i] / (signed[i] - signed[j])
             out.append(polygon[i] + t * (polygon[j] - polygon[i]))
     return np.asarray(out, dtype=np.float64).reshape(-1, 3)
+
+
+def equal_lengths(polygons: list[Array]) -> list[Array]:
+    """The polygons, each with as many vertices as the longest (its own repeated in order), for
+    matplotlib's Poly3DCollection: it keeps polygons of several lengths in an array from
+    ``np.empty`` and projects the unused entries too, whose leftover bits overflowed now and
+    then (numpy's RuntimeWarning at draw time, matplotlib 3.11). The repeats are chosen so that
+    the vertices matplotlib takes for a polygon's normal (0, n // 3, 2 n // 3 of n) are those it
+    takes of the polygon itself: the shading is unchanged, and so is every outline."""
+    longest = max((len(q) for q in polygons), default=0)
+    out = []
+    for q in polygons:
+        count = len(q)
+        if count == longest:
+            out.append(q)
+            continue
+        # Three runs, each onto its third of the polygon, in order and onto every vertex.
+        cuts = (0, longest // 3, 2 * longest // 3, longest)
+        marks = (0, count // 3, 2 * count // 3, count)
+        index = np.concatenate(
+            [
+                marks[k] + (np.arange(cuts[k + 1] - cuts[k]) * (marks[k + 1] - marks[k]))
+                // (cuts[k + 1] - cuts[k])
+                for k in range(3)
+            ]
+        )
+        out.append(q[index])
+    return out
 
 
 def capped_polygons(
@@ -468,7 +510,7 @@ def _area(polygon: Array) -> float:
     total = np.zeros(3)
     for a, b in zip(polygon[1:-1], polygon[2:], strict=True):
         total += np.cross(a - first, b - first)
-    return float(np.linalg.norm(total)) / 2.0
+    return float(norms(total)) / 2.0
 
 
 def largest_turn(vectors: Array) -> float:
@@ -476,7 +518,7 @@ def largest_turn(vectors: Array) -> float:
     if len(vectors) < 2:
         return 0.0
     a, b = vectors[:-1], vectors[1:]
-    cross = np.linalg.norm(np.cross(a, b), axis=1)
+    cross = norms(np.cross(a, b))
     return float(np.degrees(np.max(np.arctan2(cross, np.einsum("ij,ij->i", a, b)))))
 
 
@@ -489,11 +531,11 @@ def plane_disc(centre: Array, e1: Array, e2: Array, radius: float, n: int = 48) 
 
 def arrow_head(tip: Array, direction: Array, length: float, radius: float, n: int = 12) -> Array:
     """Vertices of a cone: its tip, its base's centre, then n points of its base's rim."""
-    norm = float(np.linalg.norm(direction))
+    norm = float(norms(direction))
     u = direction / norm if norm > 0 else np.array([0.0, 0.0, 1.0])
     helper = np.eye(3)[int(np.argmin(np.abs(u)))]
     a = np.cross(u, helper)
-    a /= np.linalg.norm(a)
+    a /= norms(a)
     b = np.cross(u, a)
     base = tip - length * u
     phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
@@ -516,8 +558,8 @@ def plane_basis(normal: Array, hint: Array) -> tuple[Array, Array]:
     plane (or an axis's, when the hint is along the normal)."""
     for c in (hint, *np.eye(3)[np.argsort(np.abs(normal))]):
         e1 = c - np.dot(c, normal) * normal
-        size = float(np.linalg.norm(e1))
-        if size > 1e-6 * max(float(np.linalg.norm(c)), 1e-300):
+        size = float(norms(e1))
+        if size > 1e-6 * max(float(norms(c)), 1e-300):
             e1 = e1 / size
             return e1, np.cross(normal, e1)
     raise AssertionError("no direction off the normal")  # pragma: no cover

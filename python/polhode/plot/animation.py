@@ -9,7 +9,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode._coerce import as_finite, as_finite_array, as_flag, as_integer, as_path
+from polhode._coerce import as_finite, as_finite_array, as_flag, as_path
+from polhode._files import writable
+from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._axes import axes_for, one_trajectory
 from polhode.plot._frames import body_axes, fits, principal_of
@@ -17,6 +19,8 @@ from polhode.plot._labels import Units, axis_name, units_of
 from polhode.plot._poinsot import (
     MARK_COLOR,
     capped_polygons,
+    check_resolution,
+    equal_lengths,
     frame_indices,
     inertia_box,
     mark_of,
@@ -38,6 +42,17 @@ Array = NDArray[np.float64]
 #: The ball of the marked end is drawn this far beyond the end (a fraction of the scene's
 #: half-width), so that the body does not hide it.
 MARK_OFFSET = 0.06
+
+#: The longest interval between frames (ms): a GIF keeps each frame's delay in 16 bits of
+#: hundredths of a second, 655.35 s, and matplotlib's writer fails beyond it.
+MAX_INTERVAL = 655_350.0
+
+#: The resolution of a saved file (dots per inch): at least MIN_DPI, where the smallest text
+#: (8 points) is a pixel high (below it FreeType refuses the glyphs and matplotlib's writer
+#: fails), and at most MAX_PIXELS pixels a side for the figure (an 8K frame; the writers keep
+#: every frame in memory).
+MIN_DPI = 10.0
+MAX_PIXELS = 8192
 
 #: Colours of the principal axes 1, 2, 3 (smallest, intermediate, largest moment) in
 #: :func:`animate`.
@@ -139,17 +154,39 @@ class _Options:
 
 def _options(traj: Trajectory, **given: Any) -> _Options:
     """animate's options, checked."""
-    path = None if given["path"] is None else as_path("path", given["path"])
+    path = None if given["path"] is None else writable(as_path("path", given["path"]))
     return _Options(
         indices=frame_indices(given["frames"], traj.t.size),
-        interval=as_finite("interval", given["interval"], positive=True),
-        resolution=as_integer("resolution", given["resolution"], minimum=6),
+        interval=_interval(given["interval"]),
+        resolution=check_resolution(given["resolution"]),
         path=path,
         writer=None if path is None else _writer(path),
         dpi=as_finite("dpi", given["dpi"], positive=True),
         space_axes=as_flag("space_axes", given["space_axes"]),
         unit=units_of(given["units"]),
     )
+
+
+def _interval(interval: Any) -> float:
+    value = as_finite("interval", interval, positive=True)
+    if value > MAX_INTERVAL:
+        raise ArgumentError(
+            f"Expected `interval` to be at most {MAX_INTERVAL:g} ms (the longest frame a GIF "
+            f"holds), got {value:g}.",
+            argument="interval",
+        )
+    return value
+
+
+def _check_dpi(dpi: float, figure: Any) -> None:
+    """A saved file's resolution: at least MIN_DPI, and the figure at most MAX_PIXELS a side."""
+    inches = float(np.max(figure.get_size_inches()))
+    if not MIN_DPI <= dpi <= MAX_PIXELS / inches:
+        raise ArgumentError(
+            f"Expected `dpi` from {MIN_DPI:g} (text a pixel high) to {MAX_PIXELS / inches:g} "
+            f"(a {inches:g} inch figure in {MAX_PIXELS} pixels), got {dpi:g}.",
+            argument="dpi",
+        )
 
 
 def animate(
@@ -206,14 +243,15 @@ def animate(
     ax : a 3D Axes, optional
         Drawn on if given (``projection="3d"``), else on a new figure.
     interval : float
-        Milliseconds between frames when shown (positive; the frame rate of a saved file is
-        1000 / interval).
+        Milliseconds between frames when shown (positive, at most 655350: the longest a GIF
+        holds; the frame rate of a saved file is 1000 / interval).
     resolution : int
-        Segments around a circle of a solid's surface (at least 6).
+        Segments around a circle of a solid's surface (6 to 360, one a degree).
     path : str, optional
         Save the animation there: ``.gif`` (pillow) or ``.mp4`` (ffmpeg, if on the PATH).
     dpi : float
-        Resolution of a saved file (positive).
+        Resolution of a saved file, in dots per inch: at least 10 (the smallest text a pixel
+        high), at most 8192 pixels a side of the figure (1638 for the default 5 inches).
     space_axes : bool
         Draw the space axes' ticks, grid and panes (default False: the fixed angular momentum
         is the reference, and each frame renders about four times faster without them).
@@ -261,6 +299,8 @@ def animate(
     momentum0 = np.asarray(traj.angular_momentum_body, dtype=np.float64)[0]
     marked, direction = mark_of(shape.axes, traj.omega[0], momentum0, mark)
     ax = axes_for(ax, "3d") if ax is not None else _new_axes()
+    if options.path is not None:
+        _check_dpi(options.dpi, getattr(ax.figure, "figure", ax.figure))
     animation = _Drawing(traj, shape, options, marked, direction).animate(ax)
     if options.path is not None:
         animation.save(
@@ -296,19 +336,19 @@ class _Drawing:
         polygons = [q for part in shape.parts for q in part]
         owner = [k for k, part in enumerate(shape.parts) for _ in part]
         pieces, owner, capped, end = capped_polygons(polygons, owner, direction)
-        self.polygons = pieces
+        self.polygons = equal_lengths(pieces)
         self.colors = [
             MARK_COLOR if cap else PART_COLORS[k % len(PART_COLORS)]
             for k, cap in zip(owner, capped, strict=True)
         ]
         self.end = end
-        reach = max(float(np.max(np.linalg.norm(q, axis=1))) for q in pieces)
+        reach = max(float(np.max(norms(q))) for q in pieces)
         self.com = shape.com
-        self.size = 1.1 * max(reach, float(np.linalg.norm(self.com)) + 1e-300)
+        self.size = 1.1 * max(reach, float(norms(self.com)) + 1e-300)
         arrow = 0.9 * self.size
 
         def scaled(vectors: Array) -> Array:
-            biggest = float(np.max(np.linalg.norm(vectors, axis=1)))
+            biggest = float(np.max(norms(vectors)))
             return vectors * (arrow / biggest) if biggest > 0 else vectors
 
         self.omega_drawn, self.l_drawn = scaled(omega_space), scaled(l_space)

@@ -3,6 +3,7 @@ and the herpolhode in the invariable plane."""
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -10,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_flag, as_float_array, as_integer
+from polhode._norms import norms
 from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
 from polhode.invariants import angular_momentum_space
 from polhode.plot._axes import axes_for, one_trajectory
@@ -29,6 +31,10 @@ __all__ = [
     "polhode_curves",
     "separatrix_curves",
 ]
+
+#: The most points a curve may have (``n``): a curve of 400 is smooth at any size a screen
+#: shows, and 18 curves of this many already take matplotlib seconds to draw.
+MAX_POINTS = 100_000
 
 #: A trajectory is drawn coloured by time (by default) where its energy changes by more than
 #: this, relative: a damper or a torque at work.
@@ -50,13 +56,34 @@ def _moments(moments: Any) -> NDArray[np.float64]:
     return m
 
 
-def _default_energies(moments: NDArray[np.float64], l2: float) -> list[float]:
+def _points(n: Any) -> int:
+    """The points of a curve, ``n``: an integer from 2 to MAX_POINTS."""
+    return as_integer("n", n, minimum=2, maximum=MAX_POINTS, why="points per curve")
+
+
+def _default_energies(moments: NDArray[np.float64], ell: float) -> list[float]:
     """Kinetic energies spread on both sides of the separatrix, as D = L^2/(2T) in (I1, I3)."""
     i1, i2, i3 = moments
     ds = [i1 + (i2 - i1) * f for f in (0.15, 0.4, 0.65, 0.88)]
     ds += [i2 + (i3 - i2) * f for f in (0.12, 0.35, 0.6, 0.85)]
     ds = [d for d in ds if i1 < d < i3 and d != i2]
-    return [l2 / (2.0 * d) for d in ds]
+    return [ell * (ell / (2.0 * d)) for d in ds]
+
+
+def _energy_range(moments: NDArray[np.float64], ell: float, name: str) -> tuple[float, float]:
+    """[L^2/(2 I3), L^2/(2 I1)]: the kinetic energies of ``|L| = ell`` with these moments (L^2
+    never formed: it overflows for |L| = 1e155 where T does not); an ArgumentError naming
+    ``name`` where they are beyond double precision (no energy could be drawn)."""
+    low = ell * (ell / (2.0 * float(moments[2])))
+    high = ell * (ell / (2.0 * float(moments[0])))
+    if not (low >= sys.float_info.min and high <= sys.float_info.max):
+        raise ArgumentError(
+            f"Expected `{name}` to give kinetic energies within double precision: |L| = "
+            f"{ell:.6g} with the moments {moments.tolist()} gives L^2/(2 I3) = {low:.3g} to "
+            f"L^2/(2 I1) = {high:.3g}.",
+            argument=name,
+        )
+    return low, high
 
 
 def polhode_curves(
@@ -64,37 +91,46 @@ def polhode_curves(
 ) -> list[NDArray[np.float64]]:
     """The closed curve(s) where the sphere ``|L|`` = const meets the ellipsoid sum L_i^2/I_i = 2T.
 
-    ``moments`` are the principal moments, ascending (I1 <= I2 <= I3). Returns one (n, 3) array
-    per branch, in the principal axes: two branches, one around +axis and one around -axis
-    (axis 1, of the smallest moment, if 2T > L^2/I2; axis 3, of the largest, if below).
+    ``moments`` are the principal moments, ascending (I1 <= I2 <= I3), not all equal. Returns
+    one (n, 3) array per branch, in the principal axes: two branches, one around +axis and one
+    around -axis (axis 1, of the smallest moment, if 2T > L^2/I2; axis 3, of the largest, if
+    below).
     """
-    i1, i2, i3 = (float(m) for m in _moments(moments))
+    inertia = _moments(moments)
+    i1, i2, i3 = (float(m) for m in inertia)
+    if i1 == i3:
+        raise ArgumentError(
+            f"Expected `moments` not all equal, got {inertia.tolist()}: a spherical top has no "
+            "polhode (every axis is fixed).",
+            argument="moments",
+        )
     ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
     energy = as_finite("energy", energy)
-    n = as_integer("n", n, minimum=2)
-    l2 = ell**2
-    two_t = 2.0 * energy
-    if not (l2 / i3 <= two_t <= l2 / i1):
+    n = _points(n)
+    low, high = _energy_range(inertia, ell, "angular_momentum_norm")
+    if not low <= energy <= high:
         raise ArgumentError(
-            f"Expected `energy` in [L^2/(2 I3), L^2/(2 I1)] = [{l2 / (2 * i3):.6g}, "
-            f"{l2 / (2 * i1):.6g}] for |L| = {ell:.6g}, got {energy:.6g}.",
+            f"Expected `energy` in [L^2/(2 I3), L^2/(2 I1)] = [{low:.6g}, {high:.6g}] for "
+            f"|L| = {ell:.6g}, got {energy:.6g}.",
             argument="energy",
         )
+    # On the unit sphere u = L / |L|: sum u_i^2 / I_i = k = 2T / L^2, within [1/I3, 1/I1].
+    k = min(max(2.0 * (energy / ell) / ell, 1.0 / i3), 1.0 / i1)
     phi = np.linspace(0.0, 2.0 * np.pi, n)
     c, s = np.cos(phi), np.sin(phi)
-    if two_t < l2 / i2 or (i1 == i2 and two_t <= l2 / i1):
-        # around the largest axis: L1^2 (1/I1 - 1/I3) + L2^2 (1/I2 - 1/I3) = 2T - L^2/I3
-        rhs = max(two_t - l2 / i3, 0.0)
+    if k < 1.0 / i2 or (i1 == i2 and k <= 1.0 / i1):
+        # around the largest axis: u1^2 (1/I1 - 1/I3) + u2^2 (1/I2 - 1/I3) = k - 1/I3
+        rhs = max(k - 1.0 / i3, 0.0)
         a = np.sqrt(rhs / (1 / i1 - 1 / i3)) * c
         b = np.sqrt(rhs / (1 / i2 - 1 / i3)) * s
-        rest = np.sqrt(np.maximum(l2 - a * a - b * b, 0.0))
-        return [np.column_stack([a, b, sign * rest]) for sign in (1.0, -1.0)]
-    # around the smallest axis: L2^2 (1/I1 - 1/I2) + L3^2 (1/I1 - 1/I3) = L^2/I1 - 2T
-    rhs = max(l2 / i1 - two_t, 0.0)
+        rest = np.sqrt(np.maximum(1.0 - a * a - b * b, 0.0))
+        return [ell * np.column_stack([a, b, sign * rest]) for sign in (1.0, -1.0)]
+    # around the smallest axis: u2^2 (1/I1 - 1/I2) + u3^2 (1/I1 - 1/I3) = 1/I1 - k
+    rhs = max(1.0 / i1 - k, 0.0)
     b = np.sqrt(rhs / (1 / i1 - 1 / i2)) * c if i1 != i2 else 0.0 * c
     d = np.sqrt(rhs / (1 / i1 - 1 / i3)) * s
-    rest = np.sqrt(np.maximum(l2 - b * b - d * d, 0.0))
-    return [np.column_stack([sign * rest, b, d]) for sign in (1.0, -1.0)]
+    rest = np.sqrt(np.maximum(1.0 - b * b - d * d, 0.0))
+    return [ell * np.column_stack([sign * rest, b, d]) for sign in (1.0, -1.0)]
 
 
 def separatrix_curves(
@@ -105,7 +141,7 @@ def separatrix_curves(
     for a symmetric body (I1 = I2 or I2 = I3)."""
     i1, i2, i3 = (float(m) for m in _moments(moments))
     ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
-    n = as_integer("n", n, minimum=2)
+    n = _points(n)
     if not i1 < i2 < i3:
         return []
     k = np.sqrt((1 / i1 - 1 / i2) / (1 / i2 - 1 / i3))
@@ -150,9 +186,13 @@ def _in_principal_axes(
     return frame.moments, momentum @ frame.axes
 
 
-def _energies(energies: Any, moments: NDArray[np.float64], ell: float) -> list[float]:
+def _energies(
+    energies: Any, moments: NDArray[np.float64], ell: float, low: float, high: float
+) -> list[float]:
+    """The energy levels drawn: ``energies`` (checked within [low, high], those of ``|L| =
+    ell``), or by default eight on both sides of the separatrix."""
     if energies is None:
-        return _default_energies(moments, ell * ell)
+        return _default_energies(moments, ell)
     levels = as_float_array("energies", energies)
     if levels.ndim != 1:
         raise ShapeError(
@@ -162,7 +202,6 @@ def _energies(energies: Any, moments: NDArray[np.float64], ell: float) -> list[f
         raise NonFiniteError(
             f"Expected `energies` to be finite, got {levels.tolist()}.", argument="energies"
         )
-    low, high = ell * ell / (2 * moments[2]), ell * ell / (2 * moments[0])
     outside = levels[(levels < low) | (levels > high)]
     if outside.size:
         raise ArgumentError(
@@ -201,7 +240,7 @@ def polhode(
         those of ``body``, which must be the body it was simulated with, or without ``body``
         those its own omega and angular momentum tell.
     sphere : draw a faint wireframe of the sphere.
-    n : points per curve (at least 2).
+    n : points per curve (2 to 100000).
     color_by_time : draw the trajectory coloured by time, with a colour bar, its start and its
         end marked (and the energy levels only if ``energies`` are given: it crosses them);
         default: where its energy changes by more than 0.1 % (a damper or a torque at work),
@@ -234,15 +273,17 @@ def polhode(
             argument="body" if body is not None else "traj",
         )
     sphere = as_flag("sphere", sphere)
-    n = as_integer("n", n, minimum=2)
+    n = _points(n)
     unit = units_of(units)
     if angular_momentum_norm is None:
-        ell = 1.0 if momentum is None else float(np.linalg.norm(momentum[0]))
+        ell = 1.0 if momentum is None else float(norms(momentum[0]))
+        t_lo, t_hi = _energy_range(moments, ell, "body" if momentum is None else "traj")
     else:
         ell = as_finite("angular_momentum_norm", angular_momentum_norm, positive=True)
+        t_lo, t_hi = _energy_range(moments, ell, "angular_momentum_norm")
     by_time = _by_time(color_by_time, traj)
     # Coloured by time, the trajectory crosses the energy levels: none unless asked for.
-    levels = [] if by_time and energies is None else _energies(energies, moments, ell)
+    levels = [] if by_time and energies is None else _energies(energies, moments, ell, t_lo, t_hi)
     ax = axes_for(ax, "3d")
 
     if sphere:
@@ -257,7 +298,6 @@ def polhode(
     from matplotlib import colormaps
 
     cmap = colormaps["viridis"]
-    t_lo, t_hi = ell * ell / (2 * moments[2]), ell * ell / (2 * moments[0])
     for energy in levels:
         color = cmap((energy - t_lo) / (t_hi - t_lo) if t_hi > t_lo else 0.5)
         for curve in polhode_curves(moments, ell, energy, n):
@@ -363,7 +403,10 @@ def invariable_plane_basis(
         )
     n = n / size  # scaled first: the norm of 1e154-sized entries would overflow
     n = n / np.linalg.norm(n)
-    candidates = [] if hint is None else [as_finite_array("hint", hint, (3,))]
+    given = None if hint is None else as_finite_array("hint", hint, (3,))
+    largest = 0.0 if given is None else float(np.max(np.abs(given)))
+    # scaled first, as L: the dot products of 1e155-sized entries would overflow
+    candidates = [given / largest] if given is not None and largest > 0.0 else []
     candidates += list(np.eye(3)[np.argsort(np.abs(n))])
     for c in candidates:
         e1 = c - np.dot(c, n) * n

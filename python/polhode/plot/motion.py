@@ -10,7 +10,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_float_array, as_integer
-from polhode.errors import ArgumentError, NonFiniteError, NonPositiveError, ShapeError
+from polhode._norms import norms
+from polhode.errors import (
+    ArgumentError,
+    NonFiniteError,
+    NonPositiveError,
+    PolhodeError,
+    ShapeError,
+)
 from polhode.invariants import relative_drift
 from polhode.plot._axes import FLOOR, axes_for, check_floor, one_trajectory
 from polhode.plot._frames import body_axes, principal_of
@@ -172,13 +179,18 @@ def dissipation(
     unit = units_of(units)
     ax = axes_for(ax)
     moments = np.sort(np.asarray(traj.moments, dtype=np.float64))
-    ell = np.linalg.norm(np.asarray(traj.angular_momentum_body, dtype=np.float64), axis=-1)
+    ell = norms(np.asarray(traj.angular_momentum_body, dtype=np.float64))
     energy = np.asarray(traj.energy, dtype=np.float64)
-    t0_energy, l2 = energy[0], ell[0] ** 2
+    t0_energy, ell0 = float(energy[0]), float(ell[0])
+
+    def level(moment: float) -> float:
+        """L(t0)^2 / (2 I) / T(t0), L^2 never formed (it overflows where T does not)."""
+        return (ell0 / moment) * (ell0 / (2.0 * t0_energy))
+
     ax.plot(traj.t, energy / t0_energy, label="$T / T(t_0)$", gid="dissipation:energy")
-    ax.plot(traj.t, ell / ell[0], label="$|L| / |L(t_0)|$", gid="dissipation:angular_momentum")
+    ax.plot(traj.t, ell / ell0, label="$|L| / |L(t_0)|$", gid="dissipation:angular_momentum")
     ax.axhline(
-        l2 / (2 * moments[1]) / t0_energy,
+        level(moments[1]),
         color="black",
         linestyle="--",
         linewidth=1.0,
@@ -186,7 +198,7 @@ def dissipation(
         gid="dissipation:separatrix",
     )
     ax.axhline(
-        l2 / (2 * moments[2]) / t0_energy,
+        level(moments[2]),
         color="0.5",
         linestyle=":",
         linewidth=1.2,
@@ -219,8 +231,11 @@ def _series(results: Any) -> list[tuple[str, NDArray[np.float64], NDArray[np.flo
                 f"Expected `{where}` to be a pair (times, errors), got {type(pair).__name__}"
                 + (f" of {len(pair)}." if isinstance(pair, Sequence) else ".")
             )
-        x = as_float_array(where, pair[0])
-        y = as_float_array(where, pair[1])
+        try:
+            x = as_float_array(where, pair[0])
+            y = as_float_array(where, pair[1])
+        except PolhodeError as error:  # masked, or beyond double precision
+            raise type(error)(error.message, argument="results") from None
         if x.ndim != 1 or x.shape != y.shape or x.size == 0:
             raise ShapeError(
                 f"Expected `{where}` to be times and errors of one shape (K,), K >= 1, got "
@@ -298,8 +313,19 @@ SLOPE_OFFSET = 4.0
 PERTURBATION_DIRECTION = (0.7, -0.4, 0.5)
 
 
-#: perturbation()'s arguments, as perturbation_errors' arguments that set them.
-_ARGUMENTS = {"omega0": "eps", "moments": "body", "order": "orders"}
+#: perturbation()'s and simulate()'s arguments, as perturbation_errors' arguments that set
+#: them (omega0: see _renamed).
+_ARGUMENTS = {"moments": "body", "order": "orders"}
+
+
+def _renamed(error: Any, omega0: str) -> Any:
+    """``error`` (a PolhodeError of perturbation() or simulate()) naming the argument of
+    perturbation_errors that set the one it names: ``omega0`` is eps * direction with the
+    spin on the axis, checked finite and within the domain before the calls, so what is left
+    of it is ``omega0``'s: the spin (its size overflows) or eps (the expansion's own domain)."""
+    name = str(error.argument)
+    argument = omega0 if name == "omega0" else _ARGUMENTS.get(name, error.argument)
+    return type(error)(error.message, argument=argument)
 
 
 def _epsilons(eps: Any) -> NDArray[np.float64]:
@@ -336,9 +362,10 @@ def _times(t: Any) -> NDArray[np.float64]:
     if np.ndim(t) == 0:  # an end time (or not a number: a TypeError naming `t`)
         return np.linspace(0.0, as_finite("t", t, positive=True), 41)
     times = as_float_array("t", t)
-    if times.ndim != 1:
+    if times.ndim != 1 or times.size == 0:
         raise ShapeError(
-            f"Expected `t` to be an end time or times (M,), got shape {times.shape}.", argument="t"
+            f"Expected `t` to be an end time or times (M,), M >= 1, got shape {times.shape}.",
+            argument="t",
         )
     if not np.all(np.isfinite(times)):
         raise NonFiniteError(f"Expected `t` to be finite, got {times.tolist()}.", argument="t")
@@ -371,7 +398,6 @@ def perturbation_errors(
     means 41 times from 0 to it; times must start at 0). The exact solution is
     ``polhode.simulate(..., method="exact")``, all eps in one batch.
     """
-    from polhode.errors import PolhodeError
     from polhode.perturbation import EPS_MAX, perturbation
     from polhode.simulation import simulate
 
@@ -386,7 +412,7 @@ def perturbation_errors(
             "Expected `spin` to be non-zero (the spin about `axis`), got 0.", argument="spin"
         )
     shape = as_finite_array("direction", direction, (3,))
-    off_axis = float(np.linalg.norm(np.delete(shape, axis)))
+    off_axis = float(norms(np.delete(shape, axis)))
     if off_axis == 0.0:
         raise ArgumentError(
             f"Expected `direction` to have a component off axis {axis + 1} (its entry [{axis}] is "
@@ -404,17 +430,19 @@ def perturbation_errors(
     omega0[:, axis] = spin
     try:
         exact = simulate(moments, omega0, times, method="exact", orientation=False).omega
-        errors = {}
-        for order in orders:
-            errors[order] = np.array(
-                [
-                    np.max(np.abs(perturbation(moments, w, times, axis=axis, order=order) - e))
-                    for w, e in zip(omega0, exact, strict=True)
-                ]
-            )
     except PolhodeError as error:
-        argument = _ARGUMENTS.get(str(error.argument), error.argument)
-        raise type(error)(error.message, argument=argument) from error
+        raise _renamed(error, "spin") from error
+    errors = {}
+    for order in orders:
+        try:
+            expansions = [perturbation(moments, w, times, axis=axis, order=order) for w in omega0]
+        except NonFiniteError as error:
+            raise _renamed(error, "spin") from error
+        except PolhodeError as error:
+            raise _renamed(error, "eps") from error
+        errors[order] = np.array(
+            [np.max(np.abs(x - e)) for x, e in zip(expansions, exact, strict=True)]
+        )
     return errors
 
 
@@ -457,7 +485,20 @@ def perturbation_error(
     'Expansion near axis 1 (smallest moment)'
     """
     epsilons = np.logspace(-4.0, -1.0, 13) if eps is None else _epsilons(eps)
-    errors = perturbation_errors(body, axis, epsilons, orders, t, spin=spin, direction=direction)
+    try:
+        errors = perturbation_errors(
+            body, axis, epsilons, orders, t, spin=spin, direction=direction
+        )
+    except ArgumentError as error:
+        if eps is not None or error.argument != "eps":
+            raise
+        # eps by default: the perturbation is too large for the expansion by the direction's
+        # size against the spin, which is what the caller gave.
+        raise ArgumentError(
+            f"{error.message} With eps by default (1e-4 to 0.1), `direction` off the axis "
+            "must be at most 5 |spin|: a smaller direction or a larger spin.",
+            argument="direction",
+        ) from None
     floor = check_floor(floor)
     unit = units_of(units)
     ax = axes_for(ax)

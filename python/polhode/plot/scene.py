@@ -24,6 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode._coerce import as_finite, as_finite_array, as_integer, as_path
+from polhode._files import writable
+from polhode._norms import norms
 from polhode.errors import ArgumentError
 from polhode.plot._frames import principal_of
 from polhode.plot._labels import Units, units_of
@@ -40,6 +42,7 @@ from polhode.plot._poinsot import (
     arrow_cone_faces,
     arrow_head,
     body_mesh,
+    check_resolution,
     check_trajectory,
     fan_faces,
     frame_indices,
@@ -135,7 +138,8 @@ def scene(
         Largest number of points of the polhode and the herpolhode (default 400; every
         frame's own time is one of them).
     resolution : int
-        Segments around a circle of the ellipsoid and of the body's solids.
+        Segments around a circle of the ellipsoid and of the body's solids (6 to 360, one a
+        degree).
     max_vertices : int
         A body with more vertices (a large mesh) is simplified to about this many, by merging
         the vertices of each cell of a grid.
@@ -147,7 +151,8 @@ def scene(
         omega is then in rad per time unit, L in mass length^2 per time).
     dtype : numpy float type
         The numbers the figure stores: ``numpy.float32`` (default: half the file size; what
-        a screen shows) or ``numpy.float64``.
+        a screen shows) or ``numpy.float64``; float32 holds scenes from 1e-30 to 1e38 rad/s
+        across (an ArgumentError beyond).
     path : str, optional
         Also write the figure there as a self-contained HTML page (plotly.js embedded, no
         network needed), not playing until its Play button is pressed: the same as
@@ -208,6 +213,7 @@ def scene(
     )
     motion = _Motion(trajectory, body, tensor, settings, frames, mark)
     geometry = _Geometry(motion, body, settings)
+    _check_store(settings.store, geometry.half)
     figure = go.Figure(
         data=_traces(motion, geometry, body, settings),
         layout=_layout(motion, geometry, settings),
@@ -227,6 +233,23 @@ def _body(body: Any) -> tuple[Body | None, Array | None]:
         return body, None
     moments, axes = principal_of(body)
     return None, axes @ np.diag(moments) @ axes.T
+
+
+#: The sizes of a scene (its half-width, in rad/s) that float32 holds: its largest numbers
+#: below float32's largest (3.4e38, with room for the plane and the arrows), and details of
+#: 2^-24 of it above float32's smallest normal number (1.2e-38).
+FLOAT32_SCENE = (1e-30, 1e38)
+
+
+def _check_store(store: np.dtype[Any], half: float) -> None:
+    """float32 only for a scene that it holds (FLOAT32_SCENE)."""
+    low, high = FLOAT32_SCENE
+    if store == np.dtype(np.float32) and not low <= half <= high:
+        raise ArgumentError(
+            f"Expected `dtype` to hold the scene: it is {half:.3g} rad/s across, beyond what "
+            f"float32 holds ({low:g} to {high:g}); pass dtype=numpy.float64.",
+            argument="dtype",
+        )
 
 
 @dataclass(frozen=True)
@@ -277,11 +300,11 @@ def _settings(body: Any, *, origin: Any, dtype: Any, **given: Any) -> _Settings:
         fixed=fixed,
         store=store,
         curve_points=as_integer("curve_points", given["curve_points"], minimum=2),
-        resolution=as_integer("resolution", given["resolution"], minimum=6),
+        resolution=check_resolution(given["resolution"]),
         max_vertices=as_integer("max_vertices", given["max_vertices"], minimum=8),
         frame_duration=frame_duration,
         unit=units_of(given["units"]),
-        path=None if given["path"] is None else as_path("path", given["path"]),
+        path=None if given["path"] is None else writable(as_path("path", given["path"])),
     )
 
 
@@ -320,10 +343,10 @@ class _Motion:
         momentum_body = omega_body @ tensor.T
         self.energy = 0.5 * np.einsum("mi,mi->m", omega_body, momentum_body)
         momentum = np.einsum("mij,mj->mi", self.rotations, momentum_body)
-        self.size_l = np.linalg.norm(momentum, axis=1)
+        self.size_l = norms(momentum)
         self.normal = momentum / self.size_l[:, None]
         self.distance = 2.0 * self.energy / self.size_l
-        self.change = float(np.max(np.linalg.norm(momentum - momentum[0], axis=1)) / self.size_l[0])
+        self.change = float(np.max(norms(momentum - momentum[0])) / self.size_l[0])
         self.moving = self.change > L_TOLERANCE
 
         # The curves: at most curve_points output times, every frame's among them.
@@ -369,7 +392,7 @@ class _Geometry:
         self.semi = np.sqrt(2.0 * energy[:, None] / motion.moments[None, :])  # (M, 3)
         largest = float(np.max(self.semi))
         self.centres = distance[:, None] * normal
-        spread = float(np.max(np.linalg.norm(motion.omega_space - self.centres, axis=1)))
+        spread = float(np.max(norms(motion.omega_space - self.centres)))
         self.radius = max(1.15 * spread, 0.6 * largest)
         self.half = half = 1.08 * max(largest, float(np.max(np.sqrt(distance**2 + self.radius**2))))
         self.l_length = 0.97 * half
@@ -443,7 +466,7 @@ def _frame_data(
         xyz(arrow_head(l_tip, normal, g.head_length, g.head_radius)),
         xyz(
             np.stack(
-                [np.zeros(3), omega_tip - g.head_length * omega_tip / np.linalg.norm(omega_tip)]
+                [np.zeros(3), omega_tip - g.head_length * omega_tip / norms(omega_tip)]
             )
         ),
         xyz(arrow_head(omega_tip, omega_tip, g.head_length, g.head_radius)),
@@ -652,7 +675,7 @@ def _layout(motion: _Motion, geometry: _Geometry, settings: _Settings) -> Any:
     }
     normal = motion.normal[0]
     eye_direction = 0.93 * (0.8 * geometry.e1 + 0.6 * geometry.e2) + 0.45 * normal
-    eye = 2.25 * eye_direction / np.linalg.norm(eye_direction)
+    eye = 2.25 * eye_direction / norms(eye_direction)
     axis_style = {
         "range": [-half, half],
         "autorange": False,
