@@ -20,7 +20,7 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::factor::SecondMoment;
-use super::{out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
+use super::{invalid, look, out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
 use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
 use crate::Monitor;
@@ -28,16 +28,6 @@ use crate::Monitor;
 /// Triangles per parallel chunk of the integrals (a multiple of `LANES * BLOCK`): the chunks
 /// are fixed, whatever the number of threads.
 const CHUNK: usize = 1 << 12;
-
-/// Triangles (or vertices) between two looks at the monitor in
-/// [`MassProperties::mesh_monitored`] (a millisecond or less of work): a mesh of more than two
-/// such blocks is worth watching.
-pub const MESH_CHUNK: usize = 1 << 16;
-
-/// A look at `monitor`, if any.
-pub(super) fn look(monitor: Option<&Monitor>) -> Result<()> {
-    monitor.map_or(Ok(()), Monitor::look)
-}
 
 /// Triangles side by side in the vectorised kernel (one per lane).
 const LANES: usize = 4;
@@ -214,13 +204,6 @@ fn chunk_sums<const SHELL: bool>(points: &[[f64; 3]], faces: &[[i64; 3]]) -> Lan
         sums.add(&local);
     }
     sums
-}
-
-pub(super) fn invalid(name: impl Into<String>, reason: String) -> Error {
-    Error::InvalidArgument {
-        name: name.into(),
-        reason,
-    }
 }
 
 /// Whether any entry of `values` is infinite or NaN (its exponent bits all set), without a
@@ -500,8 +483,8 @@ impl MassProperties {
     }
 
     /// [`mesh`](Self::mesh) watched by `monitor`: a look ([`Monitor::look`]) before each block
-    /// of [`MESH_CHUNK`] triangles of the closedness check and each chunk of the integrals,
-    /// so that a cancelled monitor stops the work within a block, with
+    /// of [`MESH_CHUNK`](super::MESH_CHUNK) triangles of the closedness check and each chunk of
+    /// the integrals, so that a cancelled monitor stops the work within a block, with
     /// [`Error::Interrupted`]. The result does not depend on the monitor.
     pub fn mesh_monitored(
         vertices: &[[f64; 3]],

@@ -17,7 +17,6 @@ mod topology;
 pub use frames::{
     point_masses_inertia, point_masses_inertia_monitored, Position, FRAME_POINTS_CHUNK,
 };
-pub use mesh::MESH_CHUNK;
 pub use parts::Parts;
 pub use points::POINT_CHUNK;
 pub use solids::{Solid, SOLIDS};
@@ -31,6 +30,27 @@ use crate::eigen::{self, ldexp, scientific, Principal, DEFAULT_RTOL};
 use crate::error::{finite, positive, Error, Result};
 use crate::settings::Setting;
 use factor::SecondMoment;
+
+use crate::Monitor;
+
+/// Triangles (or vertices) between two looks at the monitor in
+/// [`MassProperties::mesh_monitored`] (a millisecond or less of work): a mesh of more than two
+/// such blocks is worth watching.
+pub const MESH_CHUNK: usize = 1 << 16;
+
+/// A look at `monitor`, if any.
+fn look(monitor: Option<&Monitor>) -> Result<()> {
+    monitor.map_or(Ok(()), Monitor::look)
+}
+
+/// An [`Error::InvalidArgument`] naming `name`: a mesh's faces or vertices (`mesh.rs`,
+/// `topology.rs`).
+fn invalid(name: impl Into<String>, reason: String) -> Error {
+    Error::InvalidArgument {
+        name: name.into(),
+        reason,
+    }
+}
 
 /// A number as Python's `repr` would show it, roughly: positional between 1e-4 and 1e16,
 /// scientific outside (never the hundreds of digits of `{}` for 1e300 or 1e-300).

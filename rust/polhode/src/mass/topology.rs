@@ -32,7 +32,7 @@
 
 use rayon::prelude::*;
 
-use super::mesh::{invalid, look, MESH_CHUNK};
+use super::{invalid, look, MESH_CHUNK};
 use crate::eigen::ldexp;
 use crate::error::Result;
 use crate::Monitor;
