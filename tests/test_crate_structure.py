@@ -15,6 +15,7 @@ from collections import defaultdict
 from pathlib import Path
 
 import pytest
+from test_layers import cycles
 
 SOURCE = Path(__file__).resolve().parents[1] / "rust" / "polhode" / "src"
 
@@ -153,38 +154,6 @@ def module_edges(root: Path) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
                         edges[module].add(full[:k])
                         break
     return edges
-
-
-def cycles(graph: dict[tuple[str, ...], set[tuple[str, ...]]]) -> list[list[tuple[str, ...]]]:
-    """The strongly connected components of more than one node (Tarjan)."""
-    index: dict[tuple[str, ...], int] = {}
-    low: dict[tuple[str, ...], int] = {}
-    stack: list[tuple[str, ...]] = []
-    found = []
-
-    def visit(v: tuple[str, ...]) -> None:
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        for w in graph.get(v, ()):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in stack:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            component = []
-            while True:
-                w = stack.pop()
-                component.append(w)
-                if w == v:
-                    break
-            if len(component) > 1:
-                found.append(sorted(component))
-
-    for v in list(graph):
-        if v not in index:
-            visit(v)
-    return found
 
 
 def module_cycles(root: Path) -> list[list[tuple[str, ...]]]:

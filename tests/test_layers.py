@@ -20,9 +20,13 @@
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import TypeVar
 
 import polhode
+
+T = TypeVar("T")
 
 PACKAGE = Path(polhode.__file__).resolve().parent
 
@@ -153,39 +157,44 @@ class Imports:
         return None
 
     def cycles(self) -> list[list[str]]:
-        """The strongly connected components of more than one module (Tarjan)."""
-        graph = {m: sorted({t for t, _ in self.edges.get(m, [])}) for m in self.known}
-        index: dict[str, int] = {}
-        low: dict[str, int] = {}
-        stack: list[str] = []
-        on_stack: set[str] = set()
-        found: list[list[str]] = []
+        """The strongly connected components of more than one module."""
+        return cycles({m: sorted({t for t, _ in self.edges.get(m, [])}) for m in self.known})
 
-        def visit(v: str) -> None:
-            index[v] = low[v] = len(index)
-            stack.append(v)
-            on_stack.add(v)
-            for w in graph[v]:
-                if w not in index:
-                    visit(w)
-                    low[v] = min(low[v], low[w])
-                elif w in on_stack:
-                    low[v] = min(low[v], index[w])
-            if low[v] == index[v]:
-                component = []
-                while True:
-                    w = stack.pop()
-                    on_stack.discard(w)
-                    component.append(w)
-                    if w == v:
-                        break
-                if len(component) > 1:
-                    found.append(sorted(component))
 
-        for v in sorted(graph):
-            if v not in index:
-                visit(v)
-        return found
+def cycles(graph: Mapping[T, Iterable[T]]) -> list[list[T]]:
+    """The strongly connected components of more than one node of ``graph`` (Tarjan), each
+    sorted."""
+    index: dict[T, int] = {}
+    low: dict[T, int] = {}
+    stack: list[T] = []
+    on_stack: set[T] = set()
+    found: list[list[T]] = []
+
+    def visit(v: T) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))  # type: ignore[type-var]
+
+    for v in sorted(graph):  # type: ignore[type-var]
+        if v not in index:
+            visit(v)
+    return found
 
 
 def _private(name: str) -> bool:
