@@ -28,6 +28,7 @@ import collections
 import contextlib
 import io
 import math
+import re
 import shutil
 import sys
 import tempfile
@@ -1778,16 +1779,30 @@ def no_nan(stdout, stderr):
     assert stderr == "", stderr
 
 
-def csv_rows(path):
-    return np.loadtxt(path.format(tmp=_TMP.name), delimiter=",", skiprows=1, ndmin=2)
+def csv_rows(path, quantity=None):
+    """The CSV's rows, or the columns of one quantity (the CSV holds every quantity of the run,
+    each column headed by its name, a component and its unit: ``omega_1 (rad/s)``)."""
+    path = path.format(tmp=_TMP.name)
+    rows = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    if quantity is None:
+        return rows
+    with open(path) as handle:
+        header = handle.readline().rstrip("\n").split(",")
+    pattern = re.compile(rf"{quantity}_[123xyzw]( \(.*\))?")
+    columns = [k for k, name in enumerate(header) if pattern.fullmatch(name)]
+    assert len(columns) == {"omega": 3, "quaternion": 4}[quantity], header
+    return rows[:, columns]
+
+
+CSV_OMEGA, CSV_QUATERNION = "omega", "quaternion"
 
 
 def csv_check(path, omega_q_ref, bound):
     def check(stdout, stderr):
         rows = csv_rows(path)
         w_ref, q_ref = omega_q_ref(rows[:, 0])
-        close(rows[:, 1:4], w_ref, bound, what="omega")
-        same_rotation(rows[:, 4:8], q_ref, max(bound, 64 * EPS))
+        close(csv_rows(path, CSV_OMEGA), w_ref, bound, what="omega")
+        same_rotation(csv_rows(path, CSV_QUATERNION), q_ref, max(bound, 64 * EPS))
 
     return check
 
@@ -1809,7 +1824,7 @@ cli_ok("sphere to csv", ["spin", "--moments", "2", "2", "2", *OMEGA, "--t", "2",
        )
 cli_ok("symmetric top (2,3,2) to csv", ["spin", "--moments", "2", "3", "2", *OMEGA, "--t", "2",
                                         "--points", "5", "--csv", "{tmp}/top.csv"],
-       lambda out, errors: close(csv_rows("{tmp}/top.csv")[:, 1:4],
+       lambda out, errors: close(csv_rows("{tmp}/top.csv", CSV_OMEGA),
                                  symmetric_omega((2, 3, 2), [0.3, 1.0, -0.4],
                                                  csv_rows("{tmp}/top.csv")[:, 0]), 256 * EPS))
 cli_ok("--body cylinder", ["spin", "--body", "cylinder", "mass=1", "radius=0.1", "length=0.5",
@@ -1818,7 +1833,7 @@ cli_ok("--body cylinder", ["spin", "--body", "cylinder", "mass=1", "radius=0.1",
                                  np.sort(np.diag(ref.cylinder(1.0, 0.1, 0.5).inertia)), 1e-4))
 cli_ok("rk4 at 1e-3", [*SPIN, *OMEGA, "--t", "2", "--points", "5", "--method", "rk4", "--dt",
                        "1e-3", "--csv", "{tmp}/rk4.csv"],
-       lambda out, errors: close(csv_rows("{tmp}/rk4.csv")[:, 1:4],
+       lambda out, errors: close(csv_rows("{tmp}/rk4.csv", CSV_OMEGA),
                                  scipy_motion(M123, W, np.linspace(0, 2, 5))[0], 1e-9))
 
 

@@ -14,6 +14,7 @@ import pytest
 from scipy.special import ellipk
 
 import polhode as ph
+from polhode import _core
 from polhode.cli import main
 
 
@@ -125,12 +126,34 @@ def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
     assert abs(printed / period - 1) < 1e-9
     with path.open() as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["t (s)", "omega_1 (rad/s)", "omega_2 (rad/s)", "omega_3 (rad/s)", "qx", "qy",
-                       "qz", "qw"]
+    # The output times, then every quantity of the core's table (none needs rotors here), in
+    # its order, named by component (a vector in principal axes 1, 2, 3 here, the moments
+    # ascending; in space x, y, z; the quaternion x, y, z, w), each with its unit.
+    header = rows[0]
+    expected = ["t (s)"]
+    for row in _core.QUANTITIES:
+        if "rotors" in row["requires"]:
+            continue
+        unit = "" if row["unit"] == "1" else f" ({row['unit']})"
+        components = {(): [""], (3,): ["_1", "_2", "_3"] if row["frame"] == "body" else
+                      ["_x", "_y", "_z"], (4,): ["_x", "_y", "_z", "_w"]}[row["shape"]]
+        expected += [f"{row['name']}{c}{unit}" for c in components]
+    assert header == expected
+    for name in ("omega_1 (rad/s)", "omega_3 (rad/s)", "quaternion_w", "energy (J)",
+                 "angular_momentum_space_z (kg m^2/s)", "angular_momentum_body_2 (kg m^2/s)"):
+        assert name in header
     data = np.array(rows[1:], dtype=float)
-    assert data.shape == (11, 8)
-    np.testing.assert_allclose(data[0, 1:4], w, rtol=1e-14)
-    np.testing.assert_allclose(np.linalg.norm(data[:, 4:], axis=1), 1.0, rtol=1e-14)
+    assert data.shape == (11, len(header))
+    omega = data[:, [header.index(f"omega_{k} (rad/s)") for k in "123"]]
+    quaternion = data[:, [header.index(f"quaternion_{c}") for c in "xyzw"]]
+    np.testing.assert_allclose(omega[0], w, rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(quaternion, axis=1), 1.0, rtol=1e-14)
+    # The other columns are the trajectory's own numbers, written to round-trip.
+    sol = ph.simulate([1.0, 2.0, 3.0], w, np.linspace(0.0, 50.0, 11))
+    energy = data[:, header.index("energy (J)")]
+    assert energy.tolist() == sol.energy.tolist()
+    space = data[:, [header.index(f"angular_momentum_space_{c} (kg m^2/s)") for c in "xyz"]]
+    assert space.tolist() == sol.angular_momentum_space.tolist()
 
 
 def test_spin_accepts_a_solid(capsys):
@@ -316,6 +339,7 @@ def test_spin_imports_neither_scipy_nor_matplotlib_and_times_only_the_run(tmp_pa
 import sys
 import polhode
 import polhode as ph
+from polhode import _core
 from polhode.cli import main
 
 seen = {}

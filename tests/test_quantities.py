@@ -6,12 +6,13 @@ follow the table."""
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
 
 import polhode as ph
-from polhode import _core
+from polhode import _core, _quantities, simulation
 
 #: What each output is, from the physics: (shape per output time, SI unit, frame).
 EXPECTED = {
@@ -77,3 +78,62 @@ def test_the_core_simulate_takes_its_settings_by_keyword():
         np.array([1.0, 2.0, 3.0]), np.array([0.1, 1.0, 0.1]), np.zeros(2), method="exact"
     )
     assert out["stats"]["method"] == "exact"
+
+
+def test_the_typed_fields_are_the_table():
+    # _fields.pyi, which type checkers read for the trajectories' fields, is generated from the
+    # table: regenerate it with `python -m polhode._quantities > python/polhode/_fields.pyi`.
+    assert _quantities.STUB.read_text(encoding="utf-8") == _quantities.stub()
+    for row in _core.QUANTITIES:
+        optional = " | None" if row["requires"] else ""
+        assert f"\n    {row['name']}: _A{optional}\n" in _quantities.stub(), row["name"]
+
+
+def test_the_dask_trajectory_fields_follow_the_table():
+    phd = pytest.importorskip("polhode.dask")
+    fields = [f.name for f in dataclasses.fields(phd.DaskTrajectory)]
+    names = [row["name"] for row in _core.QUANTITIES]
+    assert fields == ["t", *names, "moments", "steps", "rejected_steps", "evaluations", "method",
+                      "records"]
+
+
+@pytest.mark.parametrize("kind", ["Trajectory", "DaskTrajectory"])
+def test_the_docs_describe_every_quantity(kind):
+    if kind == "Trajectory":
+        doc, array, lead = ph.Trajectory.__doc__, "numpy.ndarray", "..."
+    else:
+        doc = pytest.importorskip("polhode.dask").DaskTrajectory.__doc__
+        array, lead = "dask.array.Array", "N"
+    text = " ".join(doc.split())
+    for row in _core.QUANTITIES:
+        dims = ", ".join(["M", *("R" if d == "rotors" else str(d) for d in row["shape"])])
+        kind_text = f"{array} or None" if row["requires"] else array
+        entry = f"{row['name']} : ({lead}, {dims}) {kind_text}"
+        assert entry in text, entry
+        after = text.split(entry)[1]
+        description = row["description"][:1].upper() + row["description"][1:]
+        assert after.startswith(f" {description}"), row["name"]
+        if row["unit"] != "1":
+            assert after.split(" : ")[0].count(f"({row['unit']})"), row["name"]
+
+
+@pytest.mark.parametrize("orientation", [True, False])
+@pytest.mark.parametrize("rotors", [0, 2])
+def test_the_memory_check_counts_every_output(orientation, rotors, monkeypatch):
+    # The memory check's estimate is the bytes of the outputs a run returns, whatever they are.
+    wheels = [ph.rotors.Wheel((1.0, 0.0, 0.0), 0.01, 0.0) for _ in range(rotors)]
+    omega0 = np.tile([0.1, 1.0, 0.2], (4, 1))
+    t = np.linspace(0.0, 1.0, 7)
+    sol = ph.simulate([1.0, 2.0, 3.0], omega0, t, orientation=orientation, rotors=wheels or None)
+    returned = sum(
+        getattr(sol, row["name"]).nbytes
+        for row in _core.QUANTITIES
+        if getattr(sol, row["name"]) is not None
+    )
+    assert _quantities.numbers_per_time(orientation, rotors) * 8 * 4 * 7 == returned
+    estimated = []
+    monkeypatch.setattr(simulation, "_ALWAYS_FITS", 0)
+    monkeypatch.setattr(simulation, "_available_memory", lambda: estimated.append(1) or 1)
+    with pytest.raises(MemoryError, match=re.escape(f"take {float(returned):.3g} bytes")):
+        ph.simulate([1.0, 2.0, 3.0], omega0, t, orientation=orientation, rotors=wheels or None)
+    assert estimated == [1]

@@ -51,6 +51,8 @@ from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
 from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
 from polhode.rotors import as_rotors
+from polhode._fields import Fields
+from polhode._quantities import attribute_docs
 from polhode.simulation import OUTPUTS, Trajectory
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
@@ -115,27 +117,15 @@ def _interruptible(run: Callable[..., _T], *collections: Any, **kwargs: Any) -> 
         raise
 
 
-@dataclass(frozen=True)
-class DaskTrajectory:
+@dataclass(frozen=True, eq=False)
+class DaskTrajectory(Fields[da.Array]):
     """The motion of N bodies as lazy dask arrays, chunked along N like the input.
 
     Attributes
     ----------
     t : (M,) numpy.ndarray
-        Output times.
-    omega : (N, M, 3) dask.array.Array
-        Angular velocity in body axes.
-    quaternion : (N, M, 4) dask.array.Array or None
-        Body-to-space orientation (x, y, z, w); None with ``orientation=False``.
-    angular_momentum_space : (N, M, 3) dask.array.Array or None
-        Angular momentum in space axes; None without orientation.
-    angular_momentum_body : (N, M, 3) dask.array.Array
-        Angular momentum in body axes.
-    energy : (N, M) dask.array.Array
-        Rotational kinetic energy.
-    rotor_rates : (N, M, R, 3) dask.array.Array or None
-        With R rotors, each rotor's angular velocity relative to the body (body axes); None
-        without rotors.
+        Output times (s).
+{quantities}
     moments : (N, 3) dask.array.Array
         Principal moments.
     steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
@@ -144,6 +134,9 @@ class DaskTrajectory:
         The method used (``"auto"`` resolved).
     records : (N,) dask.array.Array
         The per-body records every array above is a field of (structured dtype).
+
+    The quantities are those of :class:`polhode.Trajectory` (the core's table), each with the
+    leading N.
 
     Examples
     --------
@@ -156,13 +149,6 @@ class DaskTrajectory:
     [0.5, 1.0, 1.5, 0.0]
     """
 
-    t: NDArray[np.float64]
-    omega: da.Array
-    quaternion: da.Array | None
-    angular_momentum_space: da.Array | None
-    angular_momentum_body: da.Array
-    energy: da.Array
-    rotor_rates: da.Array | None
     moments: da.Array
     steps: da.Array
     rejected_steps: da.Array
@@ -197,6 +183,11 @@ class DaskTrajectory:
         """The same trajectory with its blocks computed and kept in (cluster) memory."""
         (records,) = _interruptible(dask.persist, self.records, **kwargs)
         return _trajectory(records, self.t, self.method)
+
+
+DaskTrajectory.__doc__ = (DaskTrajectory.__doc__ or "").replace(
+    "{quantities}", attribute_docs("dask.array.Array", lead="N")
+)
 
 
 @dataclass(frozen=True)

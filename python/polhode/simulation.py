@@ -6,7 +6,6 @@ import math
 import os
 import sys
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -14,11 +13,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _chunks, _core, _display
-from polhode._chunks import accumulate, spans, unwrap
+from polhode import _core, _display
+from polhode._chunks import spans
 from polhode._coerce import as_flag, as_integer, as_scalar
 from polhode._coerce import as_float_array as _as_float_array
+from polhode._euler import euler_angles
+from polhode._fields import Fields
 from polhode._inputs import core_body as _body
+from polhode._quantities import QUANTITIES, attribute_docs, numbers_per_time
 from polhode.errors import ArgumentError, NonFiniteError
 from polhode.rotors import as_rotors
 from polhode.torque import as_torque
@@ -32,35 +34,24 @@ __all__ = ["Trajectory", "simulate"]
 METHODS = tuple(_core.METHODS)
 
 
-@dataclass(frozen=True, repr=False)
-class Trajectory:
-    """The motion at the requested times.
+@dataclass(frozen=True, repr=False, eq=False)
+class Trajectory(Fields[NDArray[np.float64]]):
+    """The motion at the output times.
 
     A batch keeps its leading N: ``omega`` is (N, M, 3) for N bodies, (M, 3) for one.
 
     Attributes
     ----------
     t : (M,) numpy.ndarray
-        Output times.
-    omega : (..., M, 3) numpy.ndarray
-        Angular velocity in body axes.
-    quaternion : (..., M, 4) numpy.ndarray or None
-        Body-to-space orientation, scalar-last (x, y, z, w), continuous in time; None with
-        ``orientation=False``.
-    angular_momentum_space : (..., M, 3) numpy.ndarray or None
-        Angular momentum in space axes (conserved without torque); None without orientation.
-        With rotors, the total of the body and its rotors.
-    angular_momentum_body : (..., M, 3) numpy.ndarray
-        Angular momentum in body axes; with rotors, the total.
-    energy : (..., M) numpy.ndarray
-        Rotational kinetic energy; with rotors, the total (the rotors' spin included).
-    rotor_rates : (..., M, R, 3) numpy.ndarray or None
-        With R rotors, each rotor's angular velocity relative to the body, in body axes (a
-        wheel's is its rate along its axis); None without rotors.
+        Output times (s).
+{quantities}
     moments : (..., 3) numpy.ndarray
         The principal moments the motion was integrated with (about the pivot for a heavy top).
     stats : dict
         ``steps``, ``rejected_steps``, ``evaluations`` (per body), ``wall_time`` (s), ``method``.
+
+    The quantities (every field but ``t``, ``moments`` and ``stats``) are those of the core's
+    table, ``polhode._core.QUANTITIES``, each in SI units.
 
     Examples
     --------
@@ -82,13 +73,6 @@ class Trajectory:
     ((3, 2, 3), None)
     """
 
-    t: NDArray[np.float64]
-    omega: NDArray[np.float64]
-    quaternion: NDArray[np.float64] | None
-    angular_momentum_space: NDArray[np.float64] | None
-    angular_momentum_body: NDArray[np.float64]
-    energy: NDArray[np.float64]
-    rotor_rates: NDArray[np.float64] | None
     moments: NDArray[np.float64]
     stats: dict[str, Any]
 
@@ -192,16 +176,16 @@ class Trajectory:
         quaternion = self.quaternion
         if quaternion.size == 0:
             # An empty batch: no angles, but the axes still checked.
-            _euler_angles(np.array([[0.0, 0.0, 0.0, 1.0]]), seq)
+            euler_angles(np.array([[0.0, 0.0, 0.0, 1.0]]), seq)
             return np.zeros(quaternion.shape[:-1] + (3,))
         if quaternion.ndim == 2:
-            angles = _euler_angles(quaternion, seq)
+            angles = euler_angles(quaternion, seq)
         else:
             # Each body's angles straight into the batch's array (chunk by chunk: Ctrl-C).
             angles = np.empty(quaternion.shape[:-1] + (3,))
             rows = angles.reshape(-1, *angles.shape[-2:])
             for k, q in enumerate(quaternion.reshape(-1, *quaternion.shape[-2:])):
-                one = _euler_angles(q, seq)
+                one = euler_angles(q, seq)
                 for span in spans(len(one)):
                     rows[k, span] = one[span]
         if degrees:
@@ -211,98 +195,13 @@ class Trajectory:
         return angles
 
 
-def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float64]:
-    """Euler angles (M, 3) of the orientations (M, 4), continuous in time (see
-    :meth:`Trajectory.euler_angles`).
+Trajectory.__doc__ = (Trajectory.__doc__ or "").replace(
+    "{quantities}", attribute_docs("numpy.ndarray")
+)
 
-    In chunks of :data:`polhode._chunks.CHUNK` output times, the sequential steps (unwrapping,
-    the running sums) carried from chunk to chunk, so that Ctrl-C stops a long series within
-    a chunk's work (scipy's and numpy's calls hold the interpreter) with the bits of the whole
-    series done at once."""
-    from scipy.spatial.transform import Rotation
-
-    m = len(quaternion)
-    angles = np.empty((m, 3))
-    # scipy's conversion takes about 0.1 us per row: a quarter chunk at a time (~30 ms).
-    for span in spans(m, max(1, _chunks.CHUNK // 4)):
-        try:
-            with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="Gimbal lock", category=UserWarning)
-                angles[span] = Rotation.from_quat(quaternion[span]).as_euler(seq)
-        except ValueError as error:
-            raise ArgumentError(
-                f"Expected `seq` to be three axes as in scipy's as_euler (e.g. 'ZXZ', 'ZYX', "
-                f"'xyz'), got {seq!r}: {error}",
-                argument="seq",
-            ) from None
-    if m == 0:
-        return angles
-    # The two ends of the middle angle's range, and at each the combination first + sign *
-    # third that the rotation depends on there (the other one is free): found by moving the
-    # split both ways at a generic point of the end.
-    proper = seq[0].lower() == seq[2].lower()
-    ends = np.array([0.0, np.pi]) if proper else np.array([-np.pi / 2, np.pi / 2])
-    probe = np.array([[0.3, end, 0.5] for end in ends])
-    moved = probe + [0.2, 0.0, -0.2]
-    keeps_sum = (
-        Rotation.from_euler(seq, moved) * Rotation.from_euler(seq, probe).inv()
-    ).magnitude()
-    signs = np.where(keeps_sum < 1e-12, 1.0, -1.0)
-    nearest = np.empty(m, dtype=np.intp)
-    locked = np.empty(m, dtype=bool)
-    for span in spans(m):
-        a = angles[span]
-        nearest[span] = np.argmin(np.abs(a[:, 1, None] - ends), axis=1)
-        locked[span] = (a[:, 2] == 0.0) & (np.abs(a[:, 1] - ends[nearest[span]]) <= 1e-6)
-    sign = signs[nearest]
-    # At a lock scipy sets the third angle to zero and puts the combination into the first:
-    # the third keeps its previous value instead (0 before any), the first takes the rest.
-    if locked.any():
-        third = unwrap(angles[:, 2])
-        index = np.empty(m, dtype=np.intp)
-        for span in spans(m):
-            index[span] = np.where(~locked[span], np.arange(span.start, span.stop), -1)
-        index = accumulate(np.maximum, index)
-        for span in spans(m):
-            here, at = locked[span], index[span]
-            keep = np.where(at >= 0, third[np.maximum(at, 0)], 0.0)[here]
-            a = angles[span]
-            a[here, 0] -= sign[span][here] * keep
-            a[here, 2] = keep
-    angles = unwrap(angles)
-    # Near a lock (the middle angle within pi/8 of an end) the first and third angles swing by
-    # about pi and unwrapping them apart can leave a whole turn in the combination that sets
-    # the rotation there, which moves by less than pi between two times: whole turns of the
-    # first angle put it back.
-    near = np.empty(m, dtype=bool)
-    for span in spans(m):
-        near[span] = np.abs(angles[span, 1] - ends[nearest[span]]) <= np.pi / 8
-    turns = np.empty(m)
-    for span in spans(m):
-        start, stop = span.start, span.stop
-        combination = angles[span, 0] + sign[span] * angles[span, 2]
-        # previous[k] = angles[k - 1, 0] + sign[k] angles[k - 1, 2], 0 at k = 0.
-        low = max(start - 1, 0)
-        previous = angles[low : stop - 1, 0] + sign[max(start, 1) : stop] * angles[
-            low : stop - 1, 2
-        ]
-        near_before = near[low : stop - 1]
-        if start == 0:
-            previous = np.concatenate([[0.0], previous])
-            near_before = np.concatenate([[False], near_before])
-        part = np.round((combination - previous) / (2 * np.pi))
-        if start == 0:
-            part[0] = 0.0
-        part[~(near[span] | near_before)] = 0.0
-        turns[span] = part
-    total = accumulate(np.add, turns)
-    for span in spans(m):
-        angles[span, 0] -= 2 * np.pi * total[span]
-    return angles
-
-
-#: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
-OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
+#: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``): the
+#: quantities of the core's table, and ``moments``.
+OUTPUTS = (*(q.name for q in QUANTITIES), "moments")
 
 
 def _available_memory() -> int | None:
@@ -323,6 +222,12 @@ def _available_memory() -> int | None:
 #: Output sizes (bytes) that :func:`_check_fits` takes as fitting without asking the system.
 _ALWAYS_FITS = 64 * 2**20
 
+#: Output times of one body without rotors that :func:`simulate` takes as fitting without
+#: :func:`_check_fits`: all of their outputs fit in :data:`_ALWAYS_FITS` (asserted here, for
+#: the quantities of the core's table).
+_ONE_BODY_FITS = 100_000
+assert _ONE_BODY_FITS * numbers_per_time(True, 0) * 8 <= _ALWAYS_FITS
+
 
 def _check_fits(
     omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool, rotors: int = 0
@@ -333,8 +238,7 @@ def _check_fits(
     most of a small call); should even they not fit, the core's allocation fails cleanly with
     MemoryError."""
     n = omega0.shape[0] if omega0.ndim == 2 else 1
-    # The numbers of every output quantity at one time.
-    per_time = (14 if orientation else 7) + 3 * rotors
+    per_time = numbers_per_time(orientation, rotors)
     size = float(n) * float(times.size) * per_time * 8
     if size <= _ALWAYS_FITS:
         return
@@ -533,8 +437,8 @@ def simulate(
     rotors = None if rotors is None else as_rotors(rotors)
     if type(orientation) is not bool:
         orientation = as_flag("orientation", orientation)
-    # One body at up to 10^5 output times (at most 14 numbers each) fits in _ALWAYS_FITS.
-    if rotors is not None or omega.ndim != 1 or times.size > 100_000:
+    # One body at up to 10^5 output times fits in _ALWAYS_FITS (see _ONE_BODY_FITS).
+    if rotors is not None or omega.ndim != 1 or times.size > _ONE_BODY_FITS:
         _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
     callback, bar = (None, None) if progress is False else _progress(progress)
     try:
