@@ -82,7 +82,7 @@ def test_the_core_simulate_takes_its_settings_by_keyword():
 
 def test_the_typed_fields_are_the_table():
     # _fields.pyi, which type checkers read for the trajectories' fields, is generated from the
-    # table: regenerate it with `python -m polhode._quantities > python/polhode/_fields.pyi`.
+    # table: regenerate it with `python scripts/fields_stub.py`.
     assert _quantities.STUB.read_text(encoding="utf-8") == _quantities.stub()
     for row in _core.QUANTITIES:
         optional = " | None" if row["requires"] else ""

@@ -1,4 +1,4 @@
-# Generated from polhode._core.QUANTITIES by `python -m polhode._quantities`: do not edit.
+# Generated from polhode._core.QUANTITIES by `python scripts/fields_stub.py`: do not edit.
 # The fields of polhode.Trajectory and polhode.dask.DaskTrajectory, for type checkers; at
 # run time polhode._fields makes the same class from the same table.
 
@@ -18,12 +18,15 @@ class Fields(Generic[_A]):
     omega: _A
     """Angular velocity, body axes (rad/s)."""
     quaternion: _A | None
-    """Body-to-space orientation, scalar-last quaternion (x, y, z, w)."""
+    """Body-to-space orientation, scalar-last quaternion (x, y, z, w), its sign continuous in
+    time."""
     angular_momentum_space: _A | None
-    """Angular momentum (with rotors, the total), space axes (kg m^2/s)."""
+    """Angular momentum, space axes (conserved without torque); with rotors, the total (kg
+    m^2/s)."""
     angular_momentum_body: _A
-    """Angular momentum (with rotors, the total), body axes (kg m^2/s)."""
+    """Angular momentum, body axes; with rotors, the total (kg m^2/s)."""
     energy: _A
-    """Rotational kinetic energy (with rotors, the total) (J)."""
+    """Rotational kinetic energy; with rotors, the total (their spin included) (J)."""
     rotor_rates: _A | None
-    """Each rotor's angular velocity relative to the body, body axes (rad/s)."""
+    """Each rotor's angular velocity relative to the body, body axes (a wheel's along its axis)
+    (rad/s)."""

@@ -9,14 +9,13 @@ and what a run needs to report it (``"orientation"``, ``"rotors"``). A quantity 
 is a field of every trajectory, a column of the CSV and an entry of the docs with no change here.
 
 Type checkers cannot run the table: ``_fields.pyi``, the typed fields of the trajectories, is
-generated from it (``python -m polhode._quantities > python/polhode/_fields.pyi`` with the core
-built; ``tests/test_quantities.py`` fails while the two differ).
+generated from it (``python scripts/fields_stub.py``, with the core built and installed;
+``tests/test_quantities.py`` fails while the two differ).
 """
 
 from __future__ import annotations
 
 import math
-import sys
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
@@ -109,7 +108,7 @@ def attribute_docs(array: str, lead: str = "...") -> str:
 
 #: The stub's text before the fields.
 _STUB_HEAD = '''\
-# Generated from polhode._core.QUANTITIES by `python -m polhode._quantities`: do not edit.
+# Generated from polhode._core.QUANTITIES by `python scripts/fields_stub.py`: do not edit.
 # The fields of polhode.Trajectory and polhode.dask.DaskTrajectory, for type checkers; at
 # run time polhode._fields makes the same class from the same table.
 
@@ -131,18 +130,15 @@ class Fields(Generic[_A]):
 
 def stub() -> str:
     """The text of ``_fields.pyi``: the output times and each quantity, as arrays of type
-    ``_A`` (``| None`` for those a run may lack)."""
+    ``_A`` (``| None`` for those a run may lack), each with its description and unit."""
     lines = [_STUB_HEAD.rstrip("\n")]
     for q in QUANTITIES:
         lines.append(f"    {q.name}: _A{' | None' if q.requires else ''}")
         unit = "" if q.unit == "1" else f" ({q.unit})"
-        lines.append(f'    """{q.description[:1].upper()}{q.description[1:]}{unit}."""')
+        text = f'"""{q.description[:1].upper()}{q.description[1:]}{unit}."""'
+        lines += textwrap.wrap(text, 96, initial_indent=" " * 4, subsequent_indent=" " * 4)
     return "\n".join(lines) + "\n"
 
 
-#: Where the stub is, beside its module.
+#: Where the stub is, beside its module (``scripts/fields_stub.py`` writes it).
 STUB = Path(__file__).with_name("_fields.pyi")
-
-
-if __name__ == "__main__":  # pragma: no cover - run by hand after a change of the table
-    sys.stdout.write(stub())

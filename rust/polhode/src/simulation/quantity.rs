@@ -90,7 +90,7 @@ impl Quantity {
         shape: &[Dim::Fixed(4)],
         unit: "1",
         frame: Frame::None,
-        description: "body-to-space orientation, scalar-last quaternion (x, y, z, w)",
+        description: "body-to-space orientation, scalar-last quaternion (x, y, z, w), its sign continuous in time",
         needs_orientation: true,
         needs_rotors: false,
         write: |s, out| match &s.quaternion {
@@ -105,7 +105,8 @@ impl Quantity {
         shape: &[Dim::Fixed(3)],
         unit: "kg m^2/s",
         frame: Frame::Space,
-        description: "angular momentum (with rotors, the total), space axes",
+        description:
+            "angular momentum, space axes (conserved without torque); with rotors, the total",
         needs_orientation: true,
         needs_rotors: false,
         write: |s, out| match &s.momentum_space {
@@ -120,7 +121,7 @@ impl Quantity {
         shape: &[Dim::Fixed(3)],
         unit: "kg m^2/s",
         frame: Frame::Body,
-        description: "angular momentum (with rotors, the total), body axes",
+        description: "angular momentum, body axes; with rotors, the total",
         needs_orientation: false,
         needs_rotors: false,
         write: |s, out| put(out, s.momentum.as_slice()),
@@ -132,7 +133,7 @@ impl Quantity {
         shape: &[],
         unit: "J",
         frame: Frame::None,
-        description: "rotational kinetic energy (with rotors, the total)",
+        description: "rotational kinetic energy; with rotors, the total (their spin included)",
         needs_orientation: false,
         needs_rotors: false,
         write: |s, out| put(out, &[s.energy]),
@@ -145,7 +146,7 @@ impl Quantity {
         shape: &[Dim::Rotors, Dim::Fixed(3)],
         unit: "rad/s",
         frame: Frame::Body,
-        description: "each rotor's angular velocity relative to the body, body axes",
+        description: "each rotor's angular velocity relative to the body, body axes (a wheel's along its axis)",
         needs_orientation: false,
         needs_rotors: true,
         write: |s, out| {
