@@ -17,6 +17,8 @@ class Fields(Generic[_A]):
     t: NDArray[np.float64]
     omega: _A
     """Angular velocity, body axes (rad/s)."""
+    omega_space: _A | None
+    """Angular velocity, space axes (rad/s)."""
     quaternion: _A | None
     """Body-to-space orientation, scalar-last quaternion (x, y, z, w), its sign continuous in
     time."""

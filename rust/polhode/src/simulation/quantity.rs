@@ -99,6 +99,22 @@ impl Quantity {
         },
     };
 
+    /// Angular velocity in space (inertial) axes: `R omega`.
+    pub const OMEGA_SPACE: Quantity = Quantity {
+        name: "omega_space",
+        shape: &[Dim::Fixed(3)],
+        unit: "rad/s",
+        frame: Frame::Space,
+        description: "angular velocity, space axes",
+        needs_orientation: true,
+        needs_rotors: false,
+        // R_b omega_b = R_p omega_p: the same vector, from the principal axes' state.
+        write: |s, out| match s.orientation_p {
+            Some(q) => put(out, (q * s.omega_p).as_slice()),
+            None => 0.0,
+        },
+    };
+
     /// Angular momentum in space axes: conserved without torque. With rotors, the total.
     pub const ANGULAR_MOMENTUM_SPACE: Quantity = Quantity {
         name: "angular_momentum_space",
@@ -263,6 +279,7 @@ macro_rules! table {
 
 table!(
     OMEGA,
+    OMEGA_SPACE,
     QUATERNION,
     ANGULAR_MOMENTUM_SPACE,
     ANGULAR_MOMENTUM_BODY,
@@ -321,6 +338,8 @@ pub(crate) struct Sample<'a> {
     pub(crate) job: &'a Job,
     /// The angular velocity, principal axes.
     pub(crate) omega_p: &'a Vector3<f64>,
+    /// The principal axes' orientation, with the orientation.
+    pub(crate) orientation_p: Option<&'a UnitQuaternion<f64>>,
     /// The gyrostat and its rotor variables, with rotors.
     pub(crate) rotors: Option<(&'a Gyrostat, &'a [f64])>,
     /// The angular velocity, body axes.
@@ -382,12 +401,61 @@ impl<'a> Sample<'a> {
         Self {
             job,
             omega_p,
+            orientation_p,
             rotors,
             omega,
             momentum,
             energy,
             quaternion,
             momentum_space,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
+
+    use crate::dynamics::Method;
+    use crate::simulation::{simulate, Body, Simulation};
+
+    #[test]
+    fn omega_space_is_the_body_rate_turned_into_space() {
+        // A tensor in non-principal axes, a torque-free run by the exact solution and by rk4:
+        // omega_space = R(q) omega at every output time, from the outputs themselves.
+        let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1);
+        let tensor =
+            r.matrix() * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.5)) * r.transpose();
+        let t: Vec<f64> = (0..=20).map(|k| 0.5 * f64::from(k)).collect();
+        for method in [Method::Exact, Method::Rk4 { dt: 1e-3 }] {
+            let out = simulate(
+                &Simulation::new(method),
+                &[Body::Inertia(tensor)],
+                &[Vector3::new(0.2, 1.0, -0.3)],
+                &[UnitQuaternion::identity()],
+                &t,
+                None,
+            )
+            .unwrap();
+            let (w, q, ws) = (
+                out.column("omega").unwrap(),
+                out.column("quaternion").unwrap(),
+                out.column("omega_space").unwrap(),
+            );
+            for j in 0..t.len() {
+                let q = UnitQuaternion::from_quaternion(Quaternion::new(
+                    q[4 * j + 3],
+                    q[4 * j],
+                    q[4 * j + 1],
+                    q[4 * j + 2],
+                ));
+                let want = q * Vector3::from_column_slice(&w[3 * j..3 * j + 3]);
+                let got = Vector3::from_column_slice(&ws[3 * j..3 * j + 3]);
+                assert!(
+                    (got - want).norm() <= 1e-14 * want.norm(),
+                    "{method:?} t[{j}]"
+                );
+            }
         }
     }
 }
