@@ -49,10 +49,11 @@ from dask.callbacks import Callback
 from polhode import _core, analysis, simulation
 from polhode._coerce import as_float_array as _as_float_array
 from polhode._coerce import as_integer, as_scalar
-from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
-from polhode.rotors import as_rotors
 from polhode._fields import Fields
 from polhode._quantities import attribute_docs
+from polhode._sampling import resolving_times
+from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
+from polhode.rotors import as_rotors
 from polhode.simulation import OUTPUTS, Trajectory
 
 __all__ = ["DaskAnalysis", "DaskTrajectory", "analyze", "simulate"]
@@ -134,6 +135,9 @@ class DaskTrajectory(Fields[da.Array]):
         The method used (``"auto"`` resolved).
     records : (N,) dask.array.Array
         The per-body records every array above is a field of (structured dtype).
+    sampling : dict or None
+        For an end time ``t``: how the output times were chosen, as in ``Trajectory.stats``
+        (see :func:`simulate`); None for times given as an array.
 
     The quantities are those of :class:`polhode.Trajectory` (the core's table), each with the
     leading N.
@@ -155,6 +159,7 @@ class DaskTrajectory(Fields[da.Array]):
     evaluations: da.Array
     method: str
     records: da.Array
+    sampling: dict[str, Any] | None = None
 
     def compute(self, **kwargs: Any) -> Trajectory:
         """Run every block once and return the batch :class:`polhode.Trajectory` (numpy).
@@ -175,14 +180,16 @@ class DaskTrajectory(Fields[da.Array]):
             "steps": field("steps"),
             "rejected_steps": field("rejected_steps"),
             "evaluations": field("evaluations"),
-            "wall_time": time.perf_counter() - started,
         }
+        if self.sampling is not None:
+            stats["sampling"] = dict(self.sampling)
+        stats["wall_time"] = time.perf_counter() - started
         return Trajectory(t=self.t, stats=stats, **{name: field(name) for name in OUTPUTS})
 
     def persist(self, **kwargs: Any) -> DaskTrajectory:
         """The same trajectory with its blocks computed and kept in (cluster) memory."""
         (records,) = _interruptible(dask.persist, self.records, **kwargs)
-        return _trajectory(records, self.t, self.method)
+        return _trajectory(records, self.t, self.method, self.sampling)
 
 
 DaskTrajectory.__doc__ = (DaskTrajectory.__doc__ or "").replace(
@@ -433,6 +440,65 @@ def _simulate_block(
     return records
 
 
+#: One block's fastest body (polhode._core.fastest_rate over its rows).
+_RATE_DTYPE = np.dtype([("rate", np.float64), ("body", np.int64), ("pace", "U16")])
+
+
+def _rate_block(
+    rows: NDArray[np.int64],
+    moments: NDArray[np.float64],
+    omega0: NDArray[np.float64],
+    *rest: Any,
+    t_end: float,
+    options: dict[str, Any],
+    stack: bool = False,
+) -> NDArray[Any]:
+    """The fastest rate of a block's bodies, its body numbered in the whole batch: one record."""
+    if rest:
+        orientation0 = rest[0]
+        if stack:
+            from scipy.spatial.transform import Rotation
+
+            orientation0 = Rotation(orientation0, normalize=False)
+        options = {**options, "orientation0": orientation0}
+    try:
+        rate = simulation.fastest_rate(moments, omega0, t_end, **options)
+    except PolhodeError as error:
+        raise _in_block(error, rows) from error
+    found = np.empty(1, dtype=_RATE_DTYPE)
+    found[0] = (rate["rate"], rows[rate["body"]] if rows.size else 0, rate["pace"])
+    return found
+
+
+def _end_time_grid(
+    end: float, args: list[Any], n: int, options: dict[str, Any], stack: bool
+) -> tuple[NDArray[np.float64], dict[str, Any]]:
+    """The output times polhode.simulate takes for the end time ``end`` and the whole batch
+    (polhode._sampling), from the fastest rate of each block's bodies (read once, no steps)."""
+    rate = simulation.fastest_rate(np.zeros((0, 3)), np.zeros((0, 3)), end, **options)
+    if n:
+        blocks = da.blockwise(
+            _rate_block,
+            "i",
+            *args,
+            concatenate=True,
+            adjust_chunks={"i": 1},
+            token="polhode-fastest-rate",
+            dtype=_RATE_DTYPE,
+            meta=np.empty((0,), dtype=_RATE_DTYPE),
+            t_end=end,
+            options=options,
+            stack=stack,
+        )
+        (found,) = _interruptible(dask.compute, blocks)
+        # The first of the fastest, as the core picks over one batch.
+        for block in found:
+            if block["rate"] > rate["rate"]:
+                rate.update(rate=float(block["rate"]), body=int(block["body"]))
+                rate["pace"] = str(block["pace"])
+    return resolving_times(as_scalar("t0", options.get("t0", 0.0)), end, rate, n)
+
+
 def _field(records: da.Array, name: str) -> da.Array:
     """One field of the (N,) records as an (N, ...) dask array (a view of each block)."""
     base, shape = records.dtype[name].base, records.dtype[name].shape
@@ -451,7 +517,12 @@ def _get_field(records: NDArray[Any], name: str) -> NDArray[Any]:
     return records[name]
 
 
-def _trajectory(records: da.Array, t: NDArray[np.float64], method: str) -> DaskTrajectory:
+def _trajectory(
+    records: da.Array,
+    t: NDArray[np.float64],
+    method: str,
+    sampling: dict[str, Any] | None = None,
+) -> DaskTrajectory:
     names = records.dtype.names or ()
 
     def field(name: str) -> da.Array | None:
@@ -465,6 +536,7 @@ def _trajectory(records: da.Array, t: NDArray[np.float64], method: str) -> DaskT
         evaluations=_field(records, "evaluations"),
         method=method,
         records=records,
+        sampling=sampling,
     )
 
 
@@ -487,7 +559,12 @@ def simulate(
     omega0 : (N, 3) dask.array.Array or array_like
         Initial angular velocity of each body, in principal axes: its rows set N.
     t : float or (M,) array_like
-        Output times or an end time, as in :func:`polhode.simulate` (numpy, shared by all).
+        Output times or an end time, as in :func:`polhode.simulate` (numpy, shared by all). An
+        end time gives the output times ``polhode.simulate`` gives the whole batch (enough to
+        resolve its fastest body's motion: see ``Trajectory.stats["sampling"]``); to find them,
+        this call reads the inputs once, block by block (the fastest rate of each block's
+        bodies at t0, no steps taken): with dask inputs, give ``t`` as an array to keep it from
+        computing them.
     orientation0 : optional
         One orientation for every body (scipy Rotation, (3, 3) matrix, xyzw quaternion), or one
         per body: (N, 4) quaternions or (N, 3, 3) matrices (dask or numpy).
@@ -564,18 +641,39 @@ def simulate(
             orientation=options.get("orientation", True),
             rotors=rotors_now,
         )
+    block_options = options if per_body is not None else {**options, "orientation0": shared}
+
+    def blocked(record_bytes: int) -> list[Any]:
+        """The row indices and the inputs, in blocks of about dask's chunk size of output."""
+        row_chunks = _row_chunks(chunks, n, record_bytes, moments, omega0, per_body)
+        args: list[Any] = [
+            da.arange(n, chunks=(row_chunks,)),
+            "i",
+            _blocked(moments, n, row_chunks),
+            "ij",
+            _blocked(omega0, n, row_chunks),
+            "ij",
+        ]
+        if per_body is not None:
+            args += [_blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
+        return args
+
+    sampling = None
+    if np.ndim(t) == 0:
+        # The output times of polhode.simulate for the whole batch: from the fastest body's
+        # rate, which each block finds for its own (the inputs read once, no steps).
+        t, sampling = _end_time_grid(
+            float(dry.t[-1]), blocked(_record_dtype(dry).itemsize), n, block_options, stack
+        )
+        dry = simulation.simulate(
+            np.zeros((0, 3)), np.zeros((0, 3)), t, orientation0=dry_orientation, **options
+        )
+        if sampling["extra_steps"]:
+            # As polhode.simulate: max_steps bounds the steps of the run to the end time alone.
+            most = as_integer("max_steps", options.get("max_steps", simulation.MAX_STEPS))
+            block_options = {**block_options, "max_steps": most + sampling["extra_steps"]}
     dtype = _record_dtype(dry)
-    row_chunks = _row_chunks(chunks, n, dtype.itemsize, moments, omega0, per_body)
-    args: list[Any] = [
-        da.arange(n, chunks=(row_chunks,)),
-        "i",
-        _blocked(moments, n, row_chunks),
-        "ij",
-        _blocked(omega0, n, row_chunks),
-        "ij",
-    ]
-    if per_body is not None:
-        args += [_blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
+    args = blocked(dtype.itemsize)
     # Indices j, k, l (the columns) have one chunk each: concatenate hands over plain arrays.
     records = da.blockwise(
         _simulate_block,
@@ -587,10 +685,10 @@ def simulate(
         meta=np.empty((0,), dtype=dtype),
         t=t,
         record_dtype=dtype,
-        options=options if per_body is not None else {**options, "orientation0": shared},
+        options=block_options,
         stack=stack,
     )
-    return _trajectory(records, dry.t, dry.stats["method"])
+    return _trajectory(records, dry.t, dry.stats["method"], sampling)
 
 
 # -------------------------------------------------------------------------------------------------

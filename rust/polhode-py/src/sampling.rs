@@ -5,7 +5,7 @@ use std::sync::{Arc, Mutex};
 
 use numpy::PyReadonlyArrayDyn;
 use polhode::dynamics::{Method, MethodSettings};
-use polhode::simulation::{fastest_rate as core_fastest_rate, Simulation};
+use polhode::simulation::{fastest_rate as core_fastest_rate, fixed_steps, Simulation};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -17,9 +17,11 @@ use crate::torque::{calls_python, torque_spec, Raised};
 
 /// The fastest rate (rad per unit time) of the motions of `body` from `omega0` at `t0` until
 /// `t_end`, with the arguments of `simulate` (one body, or N): a dict with `rate`, `pace`
-/// (what sets it: `"rest"`, `"spin"`, `"period"`, `"precession"`, `"torque"`, `"rotors"`)
-/// and `body` (the index of the fastest body). The errors are `simulate`'s for the output
-/// times `[t0, t_end]`. A Python torque function is called once per body, at `t0`.
+/// (what sets it: `"rest"`, `"spin"`, `"period"`, `"precession"`, `"torque"`, `"rotors"`),
+/// `body` (the index of the fastest body), `steps` (the steps a fixed-step method takes from
+/// `t0` to `t_end`, None for the others) and `method` (its name, `"auto"` resolved). The errors
+/// are `simulate`'s for the output times `[t0, t_end]`. A Python torque function is called once
+/// per body, at `t0`.
 #[pyfunction]
 #[pyo3(signature = (
     body, omega0, t_end, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
@@ -90,5 +92,7 @@ pub fn fastest_rate<'py>(
     out.set_item("rate", rate.rate)?;
     out.set_item("pace", rate.pace.name())?;
     out.set_item("body", rate.body)?;
+    out.set_item("steps", fixed_steps(&run.method, t0, t_end))?;
+    out.set_item("method", run.method.name())?;
     Ok(out)
 }

@@ -54,6 +54,7 @@ pub(crate) use driver::{
     exact_range, omega_scale, run_body, run_body_with_steps, start, start_state,
 };
 pub use driver::{integrate, integrate_body, Trajectory};
+pub(crate) use loops::substeps;
 pub(crate) use method::{check_method, check_times};
 pub use method::{Dop853Options, Method, MethodSettings, Options, Stats, Stepping, METHODS};
 pub use midpoint::{

@@ -39,7 +39,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 pub use job::{orientation_from_matrix, orientation_from_quaternion, Body};
 pub use output::Outputs;
 pub use quantity::{Dim, Frame, Quantity};
-pub use sampling::{fastest_rate, Pace, Rate};
+pub use sampling::{fastest_rate, fixed_steps, Pace, Rate};
 
 use crate::dynamics::{check_method, check_rotor_method, check_times, Gyrostat, Method, Options};
 use crate::dynamics::{RotorSpec, TorqueSpec};

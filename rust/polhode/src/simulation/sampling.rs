@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 use super::job::Job;
 use super::{Body, Simulation};
-use crate::dynamics::Gyrostat;
+use crate::dynamics::{substeps, Gyrostat, Method};
 use crate::exact::FreeRotation;
 use crate::{Error, Result};
 
@@ -208,4 +208,18 @@ fn largest_spin(moments: &Vector3<f64>, omega: &Vector3<f64>) -> f64 {
         }
     }
     largest.sqrt()
+}
+
+/// The steps a fixed-step method (the splitting, the midpoint rule, rk4) takes from `t0` to
+/// `t_end` with no output time between (`ceil((t_end - t0) / dt)`, up to the round-off of the
+/// times: the driver's count), so that output times every so many of those steps keep them;
+/// `None` for the other methods.
+#[must_use]
+pub fn fixed_steps(method: &Method, t0: f64, t_end: f64) -> Option<f64> {
+    match *method {
+        Method::Splitting { dt, .. } | Method::Midpoint { dt } | Method::Rk4 { dt } => {
+            Some(substeps(t0, t_end, dt))
+        }
+        Method::Exact | Method::Dop853(_) => None,
+    }
 }
