@@ -16,6 +16,7 @@ from scipy.special import ellipk
 import polhode as ph
 from polhode import _core
 from polhode.cli import main
+from polhode.invariants import max_relative_drift
 
 
 def test_demo_prints_the_flip_prediction_and_observation(tmp_path, capsys):
@@ -154,6 +155,26 @@ def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
     assert energy.tolist() == sol.energy.tolist()
     space = data[:, [header.index(f"angular_momentum_space_{c} (kg m^2/s)") for c in "xyz"]]
     assert space.tolist() == sol.angular_momentum_space.tolist()
+
+
+@pytest.mark.parametrize("method", ["exact", "dop853", "rk4"])
+def test_spin_writes_the_output_times_of_an_end_time_by_default(tmp_path, capsys, method):
+    # Without --points: polhode.simulate's times for the end time (48 per turn), the CSV rows
+    # its numbers; the drift printed is over every one of them.
+    path = tmp_path / "dense.csv"
+    options = ["--method", method] + (["--dt", "0.01"] if method == "rk4" else [])
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", "0.01", "1", "0.01", "--t", "100"]
+    assert main([*argv, *options, "--csv", str(path)]) == 0
+    out = capsys.readouterr().out
+    sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 100.0, **(
+        {"method": method, "dt": 0.01} if method == "rk4" else {"method": method}
+    ))
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    assert data[:, 0].tolist() == sol.t.tolist() and sol.t.size > 800
+    assert data[:, 1:4].tolist() == sol.omega.tolist()
+    drift = max_relative_drift(sol)["energy"]
+    printed = float(out.split("energy T")[1].split()[0])
+    assert printed == pytest.approx(drift, rel=5e-3, abs=0.0)
 
 
 def test_spin_accepts_a_solid(capsys):

@@ -558,7 +558,12 @@ def simulate(
     omega0 : (3,) or (N, 3) array_like
         Initial angular velocity in body axes at ``t0``: one body, or N.
     t : float or (M,) array_like
-        Output times (non-decreasing, >= t0), or an end time (outputs at t0 and t).
+        Output times (non-decreasing, >= t0), or an end time: then output times from t0 to t
+        that resolve the motion, 48 per turn at its fastest rate (omega's period in the body,
+        the precession, the spin, a torque's or the rotors' rate at t0), at least 49 and at
+        most 100001 (a batch: 10^6 outputs in all); a fixed-step method's every so many steps,
+        and ``dop853`` (one body) the end of each accepted step as well. How they were chosen
+        is ``stats["sampling"]`` (see ``polhode._sampling``), and the trajectory's repr says it.
     orientation0 : optional
         Initial body-to-space orientation: scipy Rotation, (3, 3) matrix, xyzw quaternion, or N
         of them (default identity).

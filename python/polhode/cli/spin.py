@@ -331,7 +331,8 @@ def run(args: argparse.Namespace) -> int:
     if rotors:
         options["rotors"] = rotors
     omega0 = np.array(args.omega, dtype=float)
-    times = np.linspace(0.0, args.t, args.points)
+    # An end time: the output times that resolve the motion (polhode.simulate's rule).
+    times = args.t if args.points is None else np.linspace(0.0, args.t, args.points)
     # The option behind each argument an error can name (max_steps: the steps dop853 needed
     # to reach --t, which has no option of its own).
     option_of = {
