@@ -158,7 +158,7 @@ def describe(sampling: dict[str, Any]) -> str:
             "rotors": "the rotors",
         }[sampling["pace"]]
         if sampling["body"] is not None:
-            pace += f" of body {sampling['body']}"
+            pace += f" of the batch's body {sampling['body']}"
         rate = _display.number(sampling["rate"])
         per_turn = _display.number(float(f"{sampling['per_turn']:.3g}"))
         text = f"{per_turn} per turn of {pace}, {rate} rad/s"

@@ -138,6 +138,11 @@ class DaskTrajectory(Fields[da.Array]):
     sampling : dict or None
         For an end time ``t``: how the output times were chosen, as in ``Trajectory.stats``
         (see :func:`simulate`); None for times given as an array.
+    single : bool
+        One body's trajectory, ``sweep[k]``: its arrays without the leading N.
+
+    ``len(sweep)`` is N and ``sweep[k]``, ``sweep[a:b]``, an index array or a boolean mask pick
+    bodies lazily, as numpy indexes the leading axis.
 
     The quantities are those of :class:`polhode.Trajectory` (the core's table), each with the
     leading N.
@@ -160,6 +165,34 @@ class DaskTrajectory(Fields[da.Array]):
     method: str
     records: da.Array
     sampling: dict[str, Any] | None = None
+    single: bool = False
+
+    def __len__(self) -> int:
+        """The number of bodies N (TypeError for one body's: ``sweep[k]``)."""
+        if self.single:
+            raise TypeError("len() of one body's DaskTrajectory: it is no batch.")
+        return int(self.records.shape[0])
+
+    def __getitem__(self, key: Any) -> DaskTrajectory:
+        """Bodies of the batch, lazily, as numpy indexes its leading axis: ``sweep[k]`` (an
+        integer) is body k's trajectory (its arrays without the leading N; ``.compute()`` is
+        the :class:`polhode.Trajectory` of that body simulated alone at ``t``), ``sweep[a:b]``,
+        a list or array of indices or a boolean mask (numpy) a batch of those bodies."""
+        n = len(self)
+        if isinstance(key, int | np.integer) and not isinstance(key, bool | np.bool_):
+            if not -n <= int(key) < n:
+                raise IndexError(f"body {int(key)} is out of range for a batch of {n} bodies.")
+            k = int(key) % n
+            return _trajectory(self.records[k : k + 1], self.t, self.method, self.sampling, True)
+        if not isinstance(key, slice):
+            key = np.asarray(key)
+            if key.ndim != 1 or key.dtype.kind not in "biu":
+                raise TypeError(
+                    "Expected a body's index, a slice, or a 1-D array of indices or of bools to "
+                    f"index a batch DaskTrajectory, got {type(key).__name__}."
+                )
+            np.zeros(n)[key]  # numpy's IndexError for an index out of range or a bad mask
+        return _trajectory(self.records[key], self.t, self.method, self.sampling)
 
     def compute(self, **kwargs: Any) -> Trajectory:
         """Run every block once and return the batch :class:`polhode.Trajectory` (numpy).
@@ -173,7 +206,8 @@ class DaskTrajectory(Fields[da.Array]):
         def field(name: str) -> Any:
             if name not in records.dtype.names:
                 return None
-            return np.ascontiguousarray(records[name])
+            value = records[name][0] if self.single else records[name]
+            return np.ascontiguousarray(value)
 
         stats = {
             "method": self.method,
@@ -181,6 +215,9 @@ class DaskTrajectory(Fields[da.Array]):
             "rejected_steps": field("rejected_steps"),
             "evaluations": field("evaluations"),
         }
+        if self.single:  # one body's costs as numbers, as polhode.simulate gives them
+            for name in ("steps", "rejected_steps", "evaluations"):
+                stats[name] = int(records[name][0])
         if self.sampling is not None:
             stats["sampling"] = dict(self.sampling)
         stats["wall_time"] = time.perf_counter() - started
@@ -189,7 +226,7 @@ class DaskTrajectory(Fields[da.Array]):
     def persist(self, **kwargs: Any) -> DaskTrajectory:
         """The same trajectory with its blocks computed and kept in (cluster) memory."""
         (records,) = _interruptible(dask.persist, self.records, **kwargs)
-        return _trajectory(records, self.t, self.method, self.sampling)
+        return _trajectory(records, self.t, self.method, self.sampling, self.single)
 
 
 DaskTrajectory.__doc__ = (DaskTrajectory.__doc__ or "").replace(
@@ -223,6 +260,9 @@ class DaskAnalysis:
         With ``rotors=[damper]``, the damper's rate and time constant; NaN where not defined
         (without a damper, and as in :class:`polhode.Analysis`).
 
+    ``len(result)`` is N; ``result[k]``, ``result[a:b]``, an index array or a boolean mask pick
+    bodies, as numpy indexes the leading axis (lazily before ``.compute()``).
+
     Examples
     --------
     >>> import numpy as np
@@ -252,12 +292,40 @@ class DaskAnalysis:
     nutation_rate: Any
     nutation_time_constant: Any
 
+    def __len__(self) -> int:
+        """The number of bodies N (TypeError for one body's, ``result[k]``)."""
+        if np.ndim(self.energy) == 0:
+            raise TypeError("len() of one body's DaskAnalysis: it is no batch.")
+        return int(np.shape(self.energy)[0])
+
+    def __getitem__(self, key: Any) -> DaskAnalysis:
+        """Bodies of the batch, as numpy indexes its leading axis (lazily for dask arrays):
+        ``result[k]`` is body k's analysis (each entry without the leading N: what
+        :func:`polhode.analyze` gives for that body, None as NaN), ``result[a:b]``, a list or
+        array of indices or a boolean mask (numpy) the analyses of those bodies."""
+        n = len(self)
+        if isinstance(key, int | np.integer) and not isinstance(key, bool | np.bool_):
+            if not -n <= int(key) < n:
+                raise IndexError(f"body {int(key)} is out of range for a batch of {n} bodies.")
+            key = int(key) % n
+        elif not isinstance(key, slice):
+            key = np.asarray(key)
+            if key.ndim != 1 or key.dtype.kind not in "biu":
+                raise TypeError(
+                    "Expected a body's index, a slice, or a 1-D array of indices or of bools to "
+                    f"index a batch DaskAnalysis, got {type(key).__name__}."
+                )
+            np.zeros(n)[key]  # numpy's IndexError for an index out of range or a bad mask
+        return DaskAnalysis(*(getattr(self, f.name)[key] for f in fields(self)))
+
     def compute(self, **kwargs: Any) -> DaskAnalysis:
         """The same analysis with numpy arrays (every block runs once)."""
         values = _interruptible(
             dask.compute, *(getattr(self, f.name) for f in fields(self)), **kwargs
         )
-        return DaskAnalysis(*(np.ascontiguousarray(v) for v in values))
+        return DaskAnalysis(
+            *(np.asarray(v) if np.ndim(v) == 0 else np.ascontiguousarray(v) for v in values)
+        )
 
 
 # -------------------------------------------------------------------------------------------------
@@ -522,21 +590,27 @@ def _trajectory(
     t: NDArray[np.float64],
     method: str,
     sampling: dict[str, Any] | None = None,
+    single: bool = False,
 ) -> DaskTrajectory:
+    """The trajectory of the bodies of ``records``; ``single``: of the one body it holds, its
+    arrays without the leading N."""
     names = records.dtype.names or ()
 
     def field(name: str) -> da.Array | None:
-        return _field(records, name) if name in names else None
+        if name not in names:
+            return None
+        return _field(records, name)[0] if single else _field(records, name)
 
     return DaskTrajectory(
         t=t,
         **{name: field(name) for name in OUTPUTS},
-        steps=_field(records, "steps"),
-        rejected_steps=_field(records, "rejected_steps"),
-        evaluations=_field(records, "evaluations"),
+        steps=field("steps"),
+        rejected_steps=field("rejected_steps"),
+        evaluations=field("evaluations"),
         method=method,
         records=records,
         sampling=sampling,
+        single=single,
     )
 
 
