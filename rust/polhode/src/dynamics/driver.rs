@@ -121,7 +121,14 @@ fn fixed<S: BodyStepper>(
 ) -> Result<Stats> {
     let y0 = stepper.vars(state0);
     fixed_loop(stepper, dt, y0, times, breaks, options, |k, stepper, y| {
-        out.push(k, &stepper.omega(y), Some(&y.1))
+        // At t0 (no step taken) omega0 itself: a stepper's variables (the splitting's
+        // I omega) give it back only to rounding.
+        let omega = if times[k] == options.t0 {
+            stepper.omega_of(state0)
+        } else {
+            stepper.omega(y)
+        };
+        out.push(k, &omega, Some(&y.1))
     })
 }
 
@@ -431,6 +438,11 @@ impl<S: BodyStepper> BodyStepper for Scaled<S> {
     fn omega(&self, y: &Vars) -> Vector3<f64> {
         self.inner.omega(y) * self.scale
     }
+
+    fn omega_of(&self, state: &State) -> Vector3<f64> {
+        // Back from units of the scale, a power of two: the omega given, exactly.
+        self.inner.omega_of(state) * self.scale
+    }
 }
 
 /// Integrates Euler's equations (with the orientation if `options.with_orientation`) from
@@ -438,7 +450,7 @@ impl<S: BodyStepper> BodyStepper for Scaled<S> {
 ///
 /// `moments`: principal moments (any order, finite, `> 0`). `times`: output times (named `t`
 /// in errors), finite, non-decreasing and `>= t0` (an output time equal to `t0` returns the
-/// initial state, to round-off for `Exact`). The fixed-step methods take
+/// initial state: omega as given, the orientation normalized). The fixed-step methods take
 /// `n = ceil((t_k - t_{k-1}) / dt)` equal substeps between successive output times, so every
 /// output time is hit exactly and no step exceeds `dt`; `Dop853` steps freely and interpolates
 /// (7th-order dense output); `Exact` evaluates the closed form at each output time.
