@@ -96,7 +96,7 @@ def test_the_dask_trajectory_fields_follow_the_table():
     fields = [f.name for f in dataclasses.fields(phd.DaskTrajectory)]
     names = [row["name"] for row in _core.QUANTITIES]
     assert fields == ["t", *names, "moments", "steps", "rejected_steps", "evaluations", "method",
-                      "records"]
+                      "records", "sampling", "single"]
 
 
 @pytest.mark.parametrize("kind", ["Trajectory", "DaskTrajectory"])

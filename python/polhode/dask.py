@@ -47,7 +47,7 @@ except ImportError as error:  # pragma: no cover - exercised only without the ex
 from dask.callbacks import Callback
 
 from polhode import _core, analysis, simulation
-from polhode._coerce import as_float_array as _as_float_array
+from polhode import _dask_inputs as _inputs
 from polhode._coerce import as_integer, as_scalar
 from polhode._fields import Fields
 from polhode._quantities import attribute_docs
@@ -329,132 +329,6 @@ class DaskAnalysis:
 
 
 # -------------------------------------------------------------------------------------------------
-# Inputs
-# -------------------------------------------------------------------------------------------------
-
-
-def _shape(shape: tuple[Any, ...]) -> str:
-    return "(" + ", ".join(map(str, shape)) + (",)" if len(shape) == 1 else ")")
-
-
-def _as_input(name: str, value: Any) -> da.Array | NDArray[np.float64]:
-    """A dask array (kept lazy, cast to float64) or a float64 numpy array, (3,) or (N, 3)."""
-    if isinstance(value, da.Array):
-        if value.dtype.kind not in "biuf":
-            raise TypeError(
-                f"Expected `{name}` to be an array of real numbers, got dtype {value.dtype}."
-            )
-        array: Any = value.astype(np.float64)
-    else:
-        array = _as_float_array(name, value)
-    if array.shape != (3,) and not (array.ndim == 2 and array.shape[1] == 3):
-        raise ShapeError(
-            f"Expected `{name}` to have shape (3,) or (N, 3), got {_shape(array.shape)}.",
-            argument=name,
-        )
-    if array.ndim == 2 and np.isnan(array.shape[0]):
-        raise ShapeError(
-            f"Expected `{name}` to have a known number of rows, got unknown chunk sizes "
-            "(call .compute_chunk_sizes() first).",
-            argument=name,
-        )
-    return array
-
-
-def _rows(body: Any, omega0: Any) -> int:
-    """The number of bodies N: the rows of ``omega0`` (N, 3); ``body`` has N rows or one (3,)
-    row shared by all."""
-    if omega0.ndim != 2:
-        raise ShapeError(
-            "Expected `omega0` to have shape (N, 3) (one row per body), "
-            f"got {_shape(omega0.shape)}.",
-            argument="omega0",
-        )
-    n = int(omega0.shape[0])
-    if body.ndim == 2 and int(body.shape[0]) != n:
-        raise ShapeError(
-            f"Expected `body` to have shape (3,) or ({n}, 3) to match `omega0`, "
-            f"got {_shape(body.shape)}.",
-            argument="body",
-        )
-    return n
-
-
-def _row_chunks(chunks: Any, n: int, record_bytes: int, *arrays: Any) -> tuple[int, ...]:
-    """Rows per block: ``chunks`` if given, else the first dask input's, else blocks of about
-    dask's ``array.chunk-size`` of output."""
-    if chunks is not None:
-        size = as_integer("chunks", chunks, minimum=1)
-        return da.core.normalize_chunks((size,), (n,))[0]
-    for array in arrays:
-        if isinstance(array, da.Array) and array.ndim >= 2:
-            return tuple(int(c) for c in array.chunks[0])
-    from dask.utils import parse_bytes
-
-    target = parse_bytes(dask.config.get("array.chunk-size"))
-    size = max(1, target // max(record_bytes, 1))
-    return da.core.normalize_chunks((size,), (n,))[0]
-
-
-def _blocked(array: Any, n: int, row_chunks: tuple[int, ...]) -> da.Array:
-    """(N, ...) dask array with the given row chunks and one chunk along every other axis; a
-    (3,) row is broadcast to every body."""
-    if array.ndim == 1:
-        if not isinstance(array, da.Array):
-            array = da.from_array(array, chunks=-1)
-        return da.broadcast_to(array, (n, 3), chunks=(row_chunks, 3))
-    chunks = (row_chunks, *array.shape[1:])
-    if isinstance(array, da.Array):
-        return array.rechunk(chunks)
-    return da.from_array(array, chunks=chunks)
-
-
-def _orientation_input(orientation0: Any, n: int) -> tuple[Any, Any, bool]:
-    """(shared, per_body, stack): one orientation for every body, or an (N, 4) or (N, 3, 3)
-    array; ``stack`` when the array holds the quaternions of a scipy Rotation stack."""
-    if orientation0 is None:
-        return None, None, False
-    from scipy.spatial.transform import Rotation
-
-    if isinstance(orientation0, Rotation):
-        if orientation0.single or len(orientation0) == 1:
-            return orientation0, None, False
-        quaternions = orientation0.as_quat()
-        if quaternions.shape != (n, 4):
-            raise ShapeError(
-                f"Expected `orientation0` to hold 1 or {n} rotations, got {len(orientation0)}.",
-                argument="orientation0",
-            )
-        return None, quaternions, True
-    if isinstance(orientation0, da.Array):
-        if orientation0.dtype.kind not in "biuf":
-            raise TypeError(
-                "Expected `orientation0` to be an array of real numbers, "
-                f"got dtype {orientation0.dtype}."
-            )
-        per_body = orientation0.astype(np.float64)
-    else:
-        per_body = _as_float_array("orientation0", orientation0)
-    if per_body.shape in ((4,), (3, 3)) or (per_body.ndim >= 2 and per_body.shape[0] == 1):
-        return np.asarray(per_body), None, False  # one rotation for all: small, computed now
-    if per_body.shape not in ((n, 4), (n, 3, 3)):
-        raise ShapeError(
-            "Expected `orientation0` to be a scipy Rotation, a (3, 3) matrix, an (x, y, z, w) "
-            f"quaternion, or ({n}, 4) quaternions or ({n}, 3, 3) matrices (one per body), "
-            f"got shape {_shape(per_body.shape)}.",
-            argument="orientation0",
-        )
-    return None, per_body, False
-
-
-def _in_block(error: PolhodeError, rows: NDArray[np.int64]) -> PolhodeError:
-    """The error of a block, its body numbered in the whole batch."""
-    if error.body is None or not rows.size:
-        return error
-    return error.for_body(int(rows[error.body]))
-
-
-# -------------------------------------------------------------------------------------------------
 # simulate
 # -------------------------------------------------------------------------------------------------
 
@@ -501,7 +375,7 @@ def _simulate_block(
     try:
         traj = simulation.simulate(moments, omega0, t, **options)
     except PolhodeError as error:
-        raise _in_block(error, rows) from error
+        raise _inputs.in_block(error, rows) from error
     records = np.empty(moments.shape[0], dtype=record_dtype)
     for name in record_dtype.names or ():
         records[name] = traj.stats[name] if name in traj.stats else getattr(traj, name)
@@ -532,7 +406,7 @@ def _rate_block(
     try:
         rate = simulation.fastest_rate(moments, omega0, t_end, **options)
     except PolhodeError as error:
-        raise _in_block(error, rows) from error
+        raise _inputs.in_block(error, rows) from error
     found = np.empty(1, dtype=_RATE_DTYPE)
     found[0] = (rate["rate"], rows[rate["body"]] if rows.size else 0, rate["pace"])
     return found
@@ -687,10 +561,10 @@ def simulate(
     >>> damped.method, damped.rotor_rates.shape
     ('dop853', (6, 5, 1, 3))
     """
-    moments = _as_input("body", body)
-    omega0 = _as_input("omega0", omega0)
-    n = _rows(moments, omega0)
-    shared, per_body, stack = _orientation_input(orientation0, n)
+    moments = _inputs.as_input("body", body)
+    omega0 = _inputs.as_input("omega0", omega0)
+    n = _inputs.rows_of(moments, omega0)
+    shared, per_body, stack = _inputs.orientation_input(orientation0, n)
     if rotors is not None:
         options = {**options, "rotors": as_rotors(rotors)}
     # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
@@ -719,17 +593,17 @@ def simulate(
 
     def blocked(record_bytes: int) -> list[Any]:
         """The row indices and the inputs, in blocks of about dask's chunk size of output."""
-        row_chunks = _row_chunks(chunks, n, record_bytes, moments, omega0, per_body)
+        row_chunks = _inputs.row_chunks(chunks, n, record_bytes, moments, omega0, per_body)
         args: list[Any] = [
             da.arange(n, chunks=(row_chunks,)),
             "i",
-            _blocked(moments, n, row_chunks),
+            _inputs.blocked(moments, n, row_chunks),
             "ij",
-            _blocked(omega0, n, row_chunks),
+            _inputs.blocked(omega0, n, row_chunks),
             "ij",
         ]
         if per_body is not None:
-            args += [_blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
+            args += [_inputs.blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
         return args
 
     sampling = None
@@ -867,29 +741,29 @@ def analyze(
     >>> [round(float(f), 4) for f in flips * np.arange(1.0, 7.0)]
     [19.5529, 19.5529, 19.5529, 19.5529, 19.5529, 19.5529]
     """
-    moments = _as_input("body", body)
-    omega0 = _as_input("omega0", omega0)
+    moments = _inputs.as_input("body", body)
+    omega0 = _inputs.as_input("omega0", omega0)
     if rtol is not None:
         rtol = as_scalar("rtol", rtol)
         if not (np.isfinite(rtol) and rtol >= 0):
             raise ArgumentError(
                 f"Expected `rtol` to be non-negative and finite, got {rtol}.", argument="rtol"
             )
-    n = _rows(moments, omega0)
+    n = _inputs.rows_of(moments, omega0)
     rotors = None if rotors is None else as_rotors(rotors)
     if isinstance(moments, np.ndarray) and isinstance(omega0, np.ndarray):
         # Numpy values at once, as simulate checks them (no steps; the rotors inside each body).
         simulation.simulate(moments, omega0, [0.0], method="dop853" if rotors else "exact",
                          orientation=False, rotors=rotors)
-    row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
+    row_chunks = _inputs.row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
     records = da.blockwise(
         _analyze_block,
         "i",
         da.arange(n, chunks=(row_chunks,)),
         "i",
-        _blocked(moments, n, row_chunks),
+        _inputs.blocked(moments, n, row_chunks),
         "ij",
-        _blocked(omega0, n, row_chunks),
+        _inputs.blocked(omega0, n, row_chunks),
         "ij",
         concatenate=True,
         token="polhode-analyze",
