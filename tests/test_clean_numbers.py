@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import polhode as ph
+from polhode import _core
 from polhode._formats import fixed_axis_rpy, number
 from polhode.cli import main
 
@@ -128,7 +129,9 @@ def test_spin_csv_has_no_negative_zero(tmp_path, capsys):
     cells = [cell for row in rows[1:] for cell in row]
     assert not [c for c in cells if NEGATIVE_ZERO.fullmatch(c)], rows
     sol = ph.simulate([1.0, 2.0, 3.0], [0.0, -1.0, 0.0], np.linspace(0.0, 10.0, 5))
-    expected = np.column_stack([sol.t, sol.omega, sol.quaternion])
+    # The CSV holds the output times and every quantity of the run, in the table's order.
+    quantities = [getattr(sol, row["name"]) for row in _core.QUANTITIES]
+    expected = np.column_stack([sol.t] + [q.reshape(5, -1) for q in quantities if q is not None])
     for row, values in zip(rows[1:], expected, strict=True):
         assert all(same_double(c, v) for c, v in zip(row, values, strict=True))
         assert all(digits(c) == shortest(float(c)) for c in row)

@@ -14,7 +14,9 @@ import pytest
 from scipy.special import ellipk
 
 import polhode as ph
+from polhode import _core
 from polhode.cli import main
+from polhode.invariants import max_relative_drift
 
 
 def test_demo_prints_the_flip_prediction_and_observation(tmp_path, capsys):
@@ -125,12 +127,54 @@ def test_spin_reports_the_period_and_writes_the_trajectory(tmp_path, capsys):
     assert abs(printed / period - 1) < 1e-9
     with path.open() as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["t (s)", "omega_1 (rad/s)", "omega_2 (rad/s)", "omega_3 (rad/s)", "qx", "qy",
-                       "qz", "qw"]
+    # The output times, then every quantity of the core's table (none needs rotors here), in
+    # its order, named by component (a vector in principal axes 1, 2, 3 here, the moments
+    # ascending; in space x, y, z; the quaternion x, y, z, w), each with its unit.
+    header = rows[0]
+    expected = ["t (s)"]
+    for row in _core.QUANTITIES:
+        if "rotors" in row["requires"]:
+            continue
+        unit = "" if row["unit"] == "1" else f" ({row['unit']})"
+        components = {(): [""], (3,): ["_1", "_2", "_3"] if row["frame"] == "body" else
+                      ["_x", "_y", "_z"], (4,): ["_x", "_y", "_z", "_w"]}[row["shape"]]
+        expected += [f"{row['name']}{c}{unit}" for c in components]
+    assert header == expected
+    for name in ("omega_1 (rad/s)", "omega_3 (rad/s)", "quaternion_w", "energy (J)",
+                 "angular_momentum_space_z (kg m^2/s)", "angular_momentum_body_2 (kg m^2/s)"):
+        assert name in header
     data = np.array(rows[1:], dtype=float)
-    assert data.shape == (11, 8)
-    np.testing.assert_allclose(data[0, 1:4], w, rtol=1e-14)
-    np.testing.assert_allclose(np.linalg.norm(data[:, 4:], axis=1), 1.0, rtol=1e-14)
+    assert data.shape == (11, len(header))
+    omega = data[:, [header.index(f"omega_{k} (rad/s)") for k in "123"]]
+    quaternion = data[:, [header.index(f"quaternion_{c}") for c in "xyzw"]]
+    np.testing.assert_allclose(omega[0], w, rtol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(quaternion, axis=1), 1.0, rtol=1e-14)
+    # The other columns are the trajectory's own numbers, written to round-trip.
+    sol = ph.simulate([1.0, 2.0, 3.0], w, np.linspace(0.0, 50.0, 11))
+    energy = data[:, header.index("energy (J)")]
+    assert energy.tolist() == sol.energy.tolist()
+    space = data[:, [header.index(f"angular_momentum_space_{c} (kg m^2/s)") for c in "xyz"]]
+    assert space.tolist() == sol.angular_momentum_space.tolist()
+
+
+@pytest.mark.parametrize("method", ["exact", "dop853", "rk4"])
+def test_spin_writes_the_output_times_of_an_end_time_by_default(tmp_path, capsys, method):
+    # Without --points: polhode.simulate's times for the end time (48 per turn), the CSV rows
+    # its numbers; the drift printed is over every one of them.
+    path = tmp_path / "dense.csv"
+    options = ["--method", method] + (["--dt", "0.01"] if method == "rk4" else [])
+    argv = ["spin", "--moments", "1", "2", "3", "--omega", "0.01", "1", "0.01", "--t", "100"]
+    assert main([*argv, *options, "--csv", str(path)]) == 0
+    out = capsys.readouterr().out
+    sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 100.0, **(
+        {"method": method, "dt": 0.01} if method == "rk4" else {"method": method}
+    ))
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    assert data[:, 0].tolist() == sol.t.tolist() and sol.t.size > 800
+    assert data[:, 1:4].tolist() == sol.omega.tolist()
+    drift = max_relative_drift(sol)["energy"]
+    printed = float(out.split("energy T")[1].split()[0])
+    assert printed == pytest.approx(drift, rel=5e-3, abs=0.0)
 
 
 def test_spin_accepts_a_solid(capsys):
@@ -316,6 +360,7 @@ def test_spin_imports_neither_scipy_nor_matplotlib_and_times_only_the_run(tmp_pa
 import sys
 import polhode
 import polhode as ph
+from polhode import _core
 from polhode.cli import main
 
 seen = {}

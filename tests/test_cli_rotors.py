@@ -39,19 +39,32 @@ def _final_rate(out, name):
     return out.split("rotor rates at t")[1].split(name)[1]
 
 
-def _total_momentum_space(moments, data, wheels, dampers):
+#: The CSV's columns of omega (moments given ascending: principal axes 1, 2, 3) and of the
+#: quaternion.
+OMEGA = ["omega_1 (rad/s)", "omega_2 (rad/s)", "omega_3 (rad/s)"]
+QUATERNION = ["quaternion_x", "quaternion_y", "quaternion_z", "quaternion_w"]
+
+
+def _columns(header, data, names):
+    """The CSV's columns named ``names``, in that order (the CSV holds every quantity of the
+    run, each found by its name)."""
+    return data[:, [header.index(name) for name in names]]
+
+
+def _damper(k):
+    return [f"damper{k}_rate_{c} (rad/s)" for c in "123"]
+
+
+def _total_momentum_space(moments, header, data, wheels, dampers):
     """H = I w + sum J W a + sum J_d (s - w) in body axes (I with the rotors locked), rotated
     into space by the CSV's quaternion."""
-    omega, q = data[:, 1:4], data[:, 4:8]
+    omega, q = _columns(header, data, OMEGA), _columns(header, data, QUATERNION)
     h = omega * np.asarray(moments, dtype=float)
-    column = 8
-    for axis, inertia in wheels:
+    for k, (axis, inertia) in enumerate(wheels, start=1):
         unit = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-        h = h + inertia * data[:, column, None] * unit
-        column += 1
-    for inertia in dampers:
-        h = h + inertia * data[:, column : column + 3]
-        column += 3
+        h = h + inertia * _columns(header, data, [f"wheel{k}_rate (rad/s)"]) * unit
+    for k, inertia in enumerate(dampers, start=1):
+        h = h + inertia * _columns(header, data, _damper(k))
     return Rotation.from_quat(q).apply(h)
 
 
@@ -83,17 +96,21 @@ def test_spin_with_a_wheel_and_a_damper_against_scipy(tmp_path, capsys):
             "--damper", str(jd), str(c), *method,
         ]
         out, header, data = _spin(argv, tmp_path, capsys)
-        assert header[8:] == ["wheel1_rate (rad/s)", "damper1_rate_x (rad/s)",
-                              "damper1_rate_y (rad/s)", "damper1_rate_z (rad/s)"]
-        assert data.shape == (33, 12)
+        # The rotors' columns after the body's (the damper's rate in body axes, numbered as
+        # omega's).
+        rotors = header.index("wheel1_rate (rad/s)")
+        assert header[rotors:] == ["wheel1_rate (rad/s)", *_damper(1)]
+        assert data.shape == (33, len(header))
         # Measured against scipy (rtol 1e-12): dop853 at rtol 1e-12 within 5.5e-12 (omega),
         # 2.5e-11 (the rotor rates) and 2.2e-11 rad (the orientation); rk4 at dt = 2e-3 within
         # 1.3e-12. Bounds 2e-10 and 2e-9 rad.
-        np.testing.assert_allclose(data[:, 1:4], ref_omega, rtol=0, atol=2e-10)
-        turn = Rotation.from_quat(data[:, 4:8]) * Rotation.from_quat(ref_q).inv()
+        np.testing.assert_allclose(_columns(header, data, OMEGA), ref_omega, rtol=0, atol=2e-10)
+        quaternion = _columns(header, data, QUATERNION)
+        turn = Rotation.from_quat(quaternion) * Rotation.from_quat(ref_q).inv()
         assert np.max(turn.magnitude()) < 2e-9
-        np.testing.assert_allclose(data[:, 8], ref_rates[:, 0] @ unit, rtol=0, atol=2e-10)
-        np.testing.assert_allclose(data[:, 9:12], ref_rates[:, 1], rtol=0, atol=2e-10)
+        np.testing.assert_allclose(data[:, rotors], ref_rates[:, 0] @ unit, rtol=0, atol=2e-10)
+        np.testing.assert_allclose(_columns(header, data, _damper(1)), ref_rates[:, 1], rtol=0,
+                                   atol=2e-10)
         # The report: the final rates, T from start to end (the motor's work and the damper's
         # loss), and the drift of the totals, rotors included.
         wheel = float(_final_rate(out, "wheel 1").split()[0])
@@ -105,7 +122,7 @@ def test_spin_with_a_wheel_and_a_damper_against_scipy(tmp_path, capsys):
         assert float(energy[0]) == pytest.approx(ref_t[0], rel=1e-8)
         assert float(energy[1]) == pytest.approx(ref_t[-1], rel=1e-8)
         assert "the motor of wheel 1" in out and "damper 1" in out
-        ell = _total_momentum_space(moments, data, [(axis, j)], [jd])
+        ell = _total_momentum_space(moments, header, data, [(axis, j)], [jd])
         np.testing.assert_allclose(ell, ref_l, rtol=0, atol=1e-9)
         assert "totals, rotors included" in out
         # The printed drift is the one of these columns (to round-off: it is 1e-14 for rk4,
@@ -129,11 +146,10 @@ def test_spin_with_a_damper_shows_the_major_axis_rule(tmp_path, capsys):
     argv = ["--moments", "1", "4", "5", "--omega", "2", "0.01", "0.01", "--t", "400",
             "--points", "401", "--damper", "0.2", "0.1", "--rtol", "1e-12"]
     out, header, data = _spin(argv, tmp_path, capsys)
-    assert header[8:] == ["damper1_rate_x (rad/s)", "damper1_rate_y (rad/s)",
-                          "damper1_rate_z (rad/s)"]
+    assert header[header.index(_damper(1)[0]):] == _damper(1)
     _, _, ref_rates, ref_l, ref_t = gyrostat(np.diag(moments), omega0, [0.0, 0.0, 0.0, 1.0],
                                              times, [DamperRef(0.2, 0.1)])
-    ell = _total_momentum_space(moments, data, [], [0.2])
+    ell = _total_momentum_space(moments, header, data, [], [0.2])
     ell2 = float(np.sum(ref_l[0] ** 2))
     energy = out.split("energy T")[1].split("(")[0].split("->")
     assert float(energy[0]) == pytest.approx(ref_t[0], rel=1e-14)
@@ -143,8 +159,8 @@ def test_spin_with_a_damper_shows_the_major_axis_rule(tmp_path, capsys):
     assert float(energy[1]) == pytest.approx(ref_t[-1], rel=1e-7)
     assert float(energy[1]) == pytest.approx(ell2 / (2 * 5.0), rel=1e-5)  # the largest axis
     assert _after(out, "between outputs") <= 1e-13  # T falls monotonically
-    np.testing.assert_allclose(data[:, 8:11],
-                               ref_rates[:, 0], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(_columns(header, data, _damper(1)), ref_rates[:, 0], rtol=0,
+                               atol=1e-7)
     # The total |L| and L in space, rotors included, kept to the tolerance (measured 1.2e-11
     # and 3.7e-11 over 400 s at rtol 1e-12).
     assert _after(out, "L in space") == pytest.approx(_drift(ell, axis=1), rel=0.01, abs=2e-15)

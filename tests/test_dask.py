@@ -140,7 +140,10 @@ def test_end_time_t0_and_persist(bodies):
     moments, omega0 = bodies
     expected = ph.simulate(moments, omega0, 3.0, t0=1.0, method="dop853")
     lazy = phd.simulate(moments, omega0, 3.0, t0=1.0, method="dop853", chunks=128)
-    np.testing.assert_array_equal(lazy.t, [1.0, 3.0])
+    # polhode.simulate's output times for the whole batch (dense: see test_sampling.py).
+    np.testing.assert_array_equal(lazy.t, expected.t)
+    assert lazy.t[0] == 1.0 and lazy.t[-1] == 3.0 and lazy.t.size >= 49
+    assert lazy.sampling == expected.stats["sampling"]
     kept = lazy.persist(scheduler="sync")
     assert_same_trajectory(kept.compute(scheduler="sync"), expected)
 
@@ -319,3 +322,64 @@ def test_ctrl_c_idles_the_cluster_workers(client):
     assert used <= CPU_BOUND, f"the workers used {used:.2f} s CPU in the {wall:.2f} s until idle"
     # A later compute on the same workers runs normally.
     np.testing.assert_array_equal(short_compute().omega, expected)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"method": "exact"}, {"method": "rk4", "dt": 0.01}, {"method": "dop853"}],
+    ids=["exact", "rk4", "dop853"],
+)
+def test_a_sweep_is_indexed_like_an_array_lazily(bodies, options):
+    moments, omega0 = bodies
+    moments, omega0 = moments[:10], omega0[:10]
+    lazy = phd.simulate(da.from_array(moments, chunks=4), omega0, 3.0, chunks=4, **options)
+    assert len(lazy) == 10
+    # polhode.simulate's times for the whole batch, whichever bodies are then picked.
+    whole = ph.simulate(moments, omega0, 3.0, **options)
+    assert np.array_equal(lazy.t, whole.t)
+    for k in (0, 3, 9, -1):
+        one = lazy[k]
+        assert isinstance(one.omega, da.Array) and one.omega.shape == (lazy.t.size, 3)
+        with pytest.raises(TypeError, match="no batch"):
+            len(one)
+        alone = ph.simulate(moments[k % 10], omega0[k % 10], lazy.t, **options)
+        assert one.compute(scheduler="sync") == alone
+        assert one.persist(scheduler="sync").compute(scheduler="sync") == alone
+    for key in (slice(2, 7), [1, 8, 3], np.arange(10) % 3 == 0):
+        part = lazy[key]
+        assert isinstance(part.omega, da.Array) and len(part) == len(np.arange(10)[key])
+        picked = np.arange(10)[key]
+        expected = ph.simulate(moments[picked], omega0[picked], lazy.t, **options)
+        assert part.compute(scheduler="sync") == expected
+    with pytest.raises(IndexError):
+        lazy[10]
+    with pytest.raises(TypeError, match="index a batch"):
+        lazy[1.5]
+
+
+def test_a_batch_analysis_is_indexed_like_an_array(bodies):
+    moments, omega0 = bodies
+    lazy = phd.analyze(da.from_array(moments[:12], chunks=5), omega0[:12])
+    assert len(lazy) == 12
+    computed = lazy.compute(scheduler="sync")
+    for result in (lazy, computed):
+        for k in (0, 5, 11, -2):
+            one = result[k]
+            if one is not computed[k]:
+                one = one.compute(scheduler="sync") if isinstance(one.energy, da.Array) else one
+            a = ph.analyze(moments[k % 12], omega0[k % 12])
+            assert np.array_equal(one.moments, a.moments) and np.array_equal(one.omega, a.omega)
+            assert one.energy == a.energy and one.regime == a.regime
+            assert one.angular_momentum_norm == a.angular_momentum_norm
+            for name in ("period", "flip_interval", "precession_rate_space"):
+                value = getattr(a, name)
+                got = float(getattr(one, name))  # NaN where polhode.analyze says None
+                assert np.isnan(got) if value is None else got == value, name
+            with pytest.raises(TypeError, match="no batch"):
+                len(one)
+        part = result[2:9:3]
+        part = part.compute(scheduler="sync") if isinstance(part.energy, da.Array) else part
+        assert len(part) == 3 and np.array_equal(part.energy, computed.energy[2:9:3])
+        mask = result[np.arange(12) >= 10]
+        mask = mask.compute(scheduler="sync") if isinstance(mask.energy, da.Array) else mask
+        assert mask.regime.tolist() == computed.regime[10:].tolist()

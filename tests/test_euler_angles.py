@@ -10,6 +10,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
+from polhode import _core
 from polhode.simulation import Trajectory
 
 SEQUENCES = ["ZXZ", "ZYZ", "XYX", "zxz", "ZYX", "XYZ", "xyz", "zyx"]
@@ -74,10 +75,9 @@ def test_zxz_about_l_are_precession_nutation_spin():
 
 
 def _trajectory(rotations: Rotation, times) -> Trajectory:
-    m = len(times)
-    return Trajectory(t=np.asarray(times), omega=np.zeros((m, 3)), quaternion=rotations.as_quat(),
-                      angular_momentum_space=np.zeros((m, 3)),
-                      angular_momentum_body=np.zeros((m, 3)), energy=np.zeros(m), rotor_rates=None,
+    # Only the orientation matters here: every other quantity of the core's table left out.
+    others = {row["name"]: None for row in _core.QUANTITIES}
+    return Trajectory(**{**others, "quaternion": rotations.as_quat()}, t=np.asarray(times),
                       moments=np.ones(3), stats={})
 
 

@@ -29,6 +29,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import polhode as ph
+from polhode import _core
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to itself is POSIX")
 
@@ -501,9 +502,10 @@ def test_ctrl_c_stops_euler_angles_of_a_long_trajectory():
         quaternion = np.empty((n, 4))
         quaternion[:, :3] = np.sin(half)[:, None] * axis
         quaternion[:, 3] = np.cos(half)
-        rest = np.zeros((n, 3))
-        return ph.Trajectory(half, rest, quaternion, None, rest, np.zeros(n), None,
-                             np.ones(3), {})
+        # Only the quaternion matters here: every other quantity of the table left out.
+        others = {row["name"]: None for row in _core.QUANTITIES}
+        return ph.Trajectory(**{**others, "quaternion": quaternion}, t=half, moments=np.ones(3),
+                             stats={})
 
     n, full_cpu = sized(lambda k: trajectory(k).euler_angles(), 10**6, 4.0, 2 * 10**7)
     traj = trajectory(n)

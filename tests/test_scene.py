@@ -302,8 +302,10 @@ def test_other_units_in_every_label(flipping, bar):
 
 def test_output_times_too_far_apart_to_draw_are_said(bar):
     with pytest.warns(UserWarning, match="has 2 output times"):
-        fig = plot.scene(ph.simulate(bar, OMEGA0, 6.0), bar)
+        fig = plot.scene(ph.simulate(bar, OMEGA0, [0.0, 6.0]), bar)
     assert len(fig.frames) == 2
+    # An end time gives output times that resolve the motion: no warning (they are errors).
+    plot.scene(ph.simulate(bar, OMEGA0, 6.0), bar, frames=5)
     # 61 output times over 60 s: omega turns by more than 20 degrees between two.
     with pytest.warns(UserWarning, match="more output times"):
         plot.scene(ph.simulate(bar, OMEGA0, np.linspace(0.0, 60.0, 61)), bar, frames=5)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import polhode as ph
-from polhode import simulation
+from polhode import _core, simulation
 from polhode._coerce import as_float_array
 
 
@@ -26,7 +26,7 @@ def test_trajectory_is_the_dataclass_its_constructor_builds():
     assert repr(traj) == repr(rebuilt)
     with pytest.raises(dataclasses.FrozenInstanceError):
         traj.omega = None  # type: ignore[misc]
-    no_attitude = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 1.0, orientation=False)
+    no_attitude = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], [0.0, 1.0], orientation=False)
     assert no_attitude.quaternion is None and no_attitude.angular_momentum_space is None
     assert no_attitude.rotor_rates is None and no_attitude.t.tolist() == [0.0, 1.0]
 
@@ -105,10 +105,19 @@ def test_as_float_array_rejects_what_is_not_real_numbers(value, what):
         ph.simulate([1.0, 2.0, 3.0], value, [0.0, 1.0])
 
 
-def test_a_scalar_end_time_as_a_0d_array_is_t0_and_t():
+def test_a_scalar_end_time_as_a_0d_array_is_an_end_time():
+    expected = np.linspace(1.0, 5.0, 49)  # FEWEST: a slow spin turns less than once in 4 s
     for t in (5.0, np.float64(5.0), np.array(5.0), 5):
-        traj = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], t, t0=1.0)
-        assert traj.t.tolist() == [1.0, 5.0]
+        traj = ph.simulate([1.0, 2.0, 3.0], [0.01, 0.1, 0.01], t, t0=1.0)
+        assert traj.t.tolist() == expected.tolist()
+
+
+def numbers_per_time() -> int:
+    """The numbers of one body's outputs at one time with the orientation and no rotors, from
+    the core's table: each quantity's shape multiplied out."""
+    return sum(
+        int(np.prod(row["shape"])) for row in _core.QUANTITIES if "rotors" not in row["requires"]
+    )
 
 
 def test_memory_is_asked_only_for_outputs_that_may_not_fit(monkeypatch):
@@ -121,8 +130,9 @@ def test_memory_is_asked_only_for_outputs_that_may_not_fit(monkeypatch):
     monkeypatch.setattr(simulation, "_available_memory", available)
     ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], [0.0, 1.0])
     assert asked == []
-    # 14 numbers a time of 8 bytes: one time more than _ALWAYS_FITS holds is checked.
-    times = np.zeros(simulation._ALWAYS_FITS // (14 * 8) + 1)
+    # The numbers of every quantity at a time, 8 bytes each: one time more than _ALWAYS_FITS
+    # holds is checked.
+    times = np.zeros(simulation._ALWAYS_FITS // (numbers_per_time() * 8) + 1)
     simulation._check_fits(np.zeros(3), times, True)
     assert asked == [True]
     simulation._check_fits(np.zeros(3), times[:-1], True)
@@ -154,7 +164,7 @@ def test_linearized_axis_is_numpys_argmax(omega0):
 def test_simulate_skips_the_memory_check_only_for_one_body_at_few_times(monkeypatch):
     # simulate skips _check_fits for one body without rotors at up to 10^5 output times: all
     # of those outputs fit in _ALWAYS_FITS, which _check_fits would not check either.
-    assert 100_000 * 14 * 8 <= simulation._ALWAYS_FITS
+    assert 100_000 * numbers_per_time() * 8 <= simulation._ALWAYS_FITS
     calls = []
     real = simulation._check_fits
 
@@ -186,19 +196,17 @@ def test_trajectory_fields_from_the_core_in_order_for_every_kind_of_run():
     damper = ph.rotors.SphericalDamper(0.2, 0.1)
     for omega0, kwargs, absent in [
         ([0.01, 1.0, 0.01], {}, {"rotor_rates"}),
-        (
-            [0.01, 1.0, 0.01],
-            {"orientation": False},
-            {"rotor_rates", "quaternion", "angular_momentum_space"},
-        ),
+        ([0.01, 1.0, 0.01], {"orientation": False}, {"rotor_rates", "quaternion"}),
         (np.ones((2, 3)), {}, {"rotor_rates"}),
         (np.ones((2, 3)), {"rotors": [damper]}, set()),
-        (
-            [0.01, 1.0, 0.01],
-            {"rotors": [damper], "orientation": False},
-            {"quaternion", "angular_momentum_space"},
-        ),
+        ([0.01, 1.0, 0.01], {"rotors": [damper], "orientation": False}, {"quaternion"}),
     ]:
+        # And every quantity of the core's table that needs what the run lacks.
+        for row in _core.QUANTITIES:
+            if ("orientation" in row["requires"] and kwargs.get("orientation") is False) or (
+                "rotors" in row["requires"] and "rotors" not in kwargs
+            ):
+                absent = absent | {row["name"]}
         traj = ph.simulate([1.0, 2.0, 3.0], omega0, t, **kwargs)
         assert list(vars(traj)) == names
         # Equal to the caller's times but not the caller's array (which may change later).

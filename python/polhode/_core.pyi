@@ -16,6 +16,7 @@ __all__ = [
     "check_motion",
     "check_rotor",
     "check_torque",
+    "fastest_rate",
     "free_rotation",
     "merge_vertices",
     "point_masses_inertia",
@@ -109,6 +110,22 @@ def simulate(
     orientation: bool = True,
     max_steps: int = 100_000_000,
     progress: Callable[[float], object] | None = None,
+    rotors: Sequence[Any] | None = None,
+    every_step: bool = False,
+) -> dict[str, Any]: ...
+def fastest_rate(
+    body: NDArray[np.float64] | MassProperties | list[MassProperties],
+    omega0: NDArray[np.float64],
+    t_end: float,
+    *,
+    orientation0: NDArray[np.float64] | None = None,
+    t0: float = 0.0,
+    method: str = "auto",
+    dt: float | None = None,
+    order: int = 4,
+    rtol: float = 1e-10,
+    atol: float | None = None,
+    torque: Any = None,
     rotors: Sequence[Any] | None = None,
 ) -> dict[str, Any]: ...
 def check_rotor(rotor: Any) -> None: ...

@@ -47,8 +47,11 @@ except ImportError as error:  # pragma: no cover - exercised only without the ex
 from dask.callbacks import Callback
 
 from polhode import _core, analysis, simulation
-from polhode._coerce import as_float_array as _as_float_array
+from polhode import _dask_inputs as _inputs
 from polhode._coerce import as_integer, as_scalar
+from polhode._fields import Fields
+from polhode._quantities import attribute_docs
+from polhode._sampling import resolving_times
 from polhode.errors import ArgumentError, CancelledError, PolhodeError, ShapeError
 from polhode.rotors import as_rotors
 from polhode.simulation import OUTPUTS, Trajectory
@@ -115,27 +118,15 @@ def _interruptible(run: Callable[..., _T], *collections: Any, **kwargs: Any) -> 
         raise
 
 
-@dataclass(frozen=True)
-class DaskTrajectory:
+@dataclass(frozen=True, eq=False)
+class DaskTrajectory(Fields[da.Array]):
     """The motion of N bodies as lazy dask arrays, chunked along N like the input.
 
     Attributes
     ----------
     t : (M,) numpy.ndarray
-        Output times.
-    omega : (N, M, 3) dask.array.Array
-        Angular velocity in body axes.
-    quaternion : (N, M, 4) dask.array.Array or None
-        Body-to-space orientation (x, y, z, w); None with ``orientation=False``.
-    angular_momentum_space : (N, M, 3) dask.array.Array or None
-        Angular momentum in space axes; None without orientation.
-    angular_momentum_body : (N, M, 3) dask.array.Array
-        Angular momentum in body axes.
-    energy : (N, M) dask.array.Array
-        Rotational kinetic energy.
-    rotor_rates : (N, M, R, 3) dask.array.Array or None
-        With R rotors, each rotor's angular velocity relative to the body (body axes); None
-        without rotors.
+        Output times (s).
+{quantities}
     moments : (N, 3) dask.array.Array
         Principal moments.
     steps, rejected_steps, evaluations : (N,) dask.array.Array of uint64
@@ -144,6 +135,17 @@ class DaskTrajectory:
         The method used (``"auto"`` resolved).
     records : (N,) dask.array.Array
         The per-body records every array above is a field of (structured dtype).
+    sampling : dict or None
+        For an end time ``t``: how the output times were chosen, as in ``Trajectory.stats``
+        (see :func:`simulate`); None for times given as an array.
+    single : bool
+        One body's trajectory, ``sweep[k]``: its arrays without the leading N.
+
+    ``len(sweep)`` is N and ``sweep[k]``, ``sweep[a:b]``, an index array or a boolean mask pick
+    bodies lazily, as numpy indexes the leading axis.
+
+    The quantities are those of :class:`polhode.Trajectory` (the core's table), each with the
+    leading N.
 
     Examples
     --------
@@ -156,19 +158,41 @@ class DaskTrajectory:
     [0.5, 1.0, 1.5, 0.0]
     """
 
-    t: NDArray[np.float64]
-    omega: da.Array
-    quaternion: da.Array | None
-    angular_momentum_space: da.Array | None
-    angular_momentum_body: da.Array
-    energy: da.Array
-    rotor_rates: da.Array | None
     moments: da.Array
     steps: da.Array
     rejected_steps: da.Array
     evaluations: da.Array
     method: str
     records: da.Array
+    sampling: dict[str, Any] | None = None
+    single: bool = False
+
+    def __len__(self) -> int:
+        """The number of bodies N (TypeError for one body's: ``sweep[k]``)."""
+        if self.single:
+            raise TypeError("len() of one body's DaskTrajectory: it is no batch.")
+        return int(self.records.shape[0])
+
+    def __getitem__(self, key: Any) -> DaskTrajectory:
+        """Bodies of the batch, lazily, as numpy indexes its leading axis: ``sweep[k]`` (an
+        integer) is body k's trajectory (its arrays without the leading N; ``.compute()`` is
+        the :class:`polhode.Trajectory` of that body simulated alone at ``t``), ``sweep[a:b]``,
+        a list or array of indices or a boolean mask (numpy) a batch of those bodies."""
+        n = len(self)
+        if isinstance(key, int | np.integer) and not isinstance(key, bool | np.bool_):
+            if not -n <= int(key) < n:
+                raise IndexError(f"body {int(key)} is out of range for a batch of {n} bodies.")
+            k = int(key) % n
+            return _trajectory(self.records[k : k + 1], self.t, self.method, self.sampling, True)
+        if not isinstance(key, slice):
+            key = np.asarray(key)
+            if key.ndim != 1 or key.dtype.kind not in "biu":
+                raise TypeError(
+                    "Expected a body's index, a slice, or a 1-D array of indices or of bools to "
+                    f"index a batch DaskTrajectory, got {type(key).__name__}."
+                )
+            np.zeros(n)[key]  # numpy's IndexError for an index out of range or a bad mask
+        return _trajectory(self.records[key], self.t, self.method, self.sampling)
 
     def compute(self, **kwargs: Any) -> Trajectory:
         """Run every block once and return the batch :class:`polhode.Trajectory` (numpy).
@@ -182,21 +206,32 @@ class DaskTrajectory:
         def field(name: str) -> Any:
             if name not in records.dtype.names:
                 return None
-            return np.ascontiguousarray(records[name])
+            value = records[name][0] if self.single else records[name]
+            return np.ascontiguousarray(value)
 
         stats = {
             "method": self.method,
             "steps": field("steps"),
             "rejected_steps": field("rejected_steps"),
             "evaluations": field("evaluations"),
-            "wall_time": time.perf_counter() - started,
         }
+        if self.single:  # one body's costs as numbers, as polhode.simulate gives them
+            for name in ("steps", "rejected_steps", "evaluations"):
+                stats[name] = int(records[name][0])
+        if self.sampling is not None:
+            stats["sampling"] = dict(self.sampling)
+        stats["wall_time"] = time.perf_counter() - started
         return Trajectory(t=self.t, stats=stats, **{name: field(name) for name in OUTPUTS})
 
     def persist(self, **kwargs: Any) -> DaskTrajectory:
         """The same trajectory with its blocks computed and kept in (cluster) memory."""
         (records,) = _interruptible(dask.persist, self.records, **kwargs)
-        return _trajectory(records, self.t, self.method)
+        return _trajectory(records, self.t, self.method, self.sampling, self.single)
+
+
+DaskTrajectory.__doc__ = (DaskTrajectory.__doc__ or "").replace(
+    "{quantities}", attribute_docs("dask.array.Array", lead="N")
+)
 
 
 @dataclass(frozen=True)
@@ -224,6 +259,9 @@ class DaskAnalysis:
     nutation_rate, nutation_time_constant : (N,) float
         With ``rotors=[damper]``, the damper's rate and time constant; NaN where not defined
         (without a damper, and as in :class:`polhode.Analysis`).
+
+    ``len(result)`` is N; ``result[k]``, ``result[a:b]``, an index array or a boolean mask pick
+    bodies, as numpy indexes the leading axis (lazily before ``.compute()``).
 
     Examples
     --------
@@ -254,138 +292,40 @@ class DaskAnalysis:
     nutation_rate: Any
     nutation_time_constant: Any
 
+    def __len__(self) -> int:
+        """The number of bodies N (TypeError for one body's, ``result[k]``)."""
+        if np.ndim(self.energy) == 0:
+            raise TypeError("len() of one body's DaskAnalysis: it is no batch.")
+        return int(np.shape(self.energy)[0])
+
+    def __getitem__(self, key: Any) -> DaskAnalysis:
+        """Bodies of the batch, as numpy indexes its leading axis (lazily for dask arrays):
+        ``result[k]`` is body k's analysis (each entry without the leading N: what
+        :func:`polhode.analyze` gives for that body, None as NaN), ``result[a:b]``, a list or
+        array of indices or a boolean mask (numpy) the analyses of those bodies."""
+        n = len(self)
+        if isinstance(key, int | np.integer) and not isinstance(key, bool | np.bool_):
+            if not -n <= int(key) < n:
+                raise IndexError(f"body {int(key)} is out of range for a batch of {n} bodies.")
+            key = int(key) % n
+        elif not isinstance(key, slice):
+            key = np.asarray(key)
+            if key.ndim != 1 or key.dtype.kind not in "biu":
+                raise TypeError(
+                    "Expected a body's index, a slice, or a 1-D array of indices or of bools to "
+                    f"index a batch DaskAnalysis, got {type(key).__name__}."
+                )
+            np.zeros(n)[key]  # numpy's IndexError for an index out of range or a bad mask
+        return DaskAnalysis(*(getattr(self, f.name)[key] for f in fields(self)))
+
     def compute(self, **kwargs: Any) -> DaskAnalysis:
         """The same analysis with numpy arrays (every block runs once)."""
         values = _interruptible(
             dask.compute, *(getattr(self, f.name) for f in fields(self)), **kwargs
         )
-        return DaskAnalysis(*(np.ascontiguousarray(v) for v in values))
-
-
-# -------------------------------------------------------------------------------------------------
-# Inputs
-# -------------------------------------------------------------------------------------------------
-
-
-def _shape(shape: tuple[Any, ...]) -> str:
-    return "(" + ", ".join(map(str, shape)) + (",)" if len(shape) == 1 else ")")
-
-
-def _as_input(name: str, value: Any) -> da.Array | NDArray[np.float64]:
-    """A dask array (kept lazy, cast to float64) or a float64 numpy array, (3,) or (N, 3)."""
-    if isinstance(value, da.Array):
-        if value.dtype.kind not in "biuf":
-            raise TypeError(
-                f"Expected `{name}` to be an array of real numbers, got dtype {value.dtype}."
-            )
-        array: Any = value.astype(np.float64)
-    else:
-        array = _as_float_array(name, value)
-    if array.shape != (3,) and not (array.ndim == 2 and array.shape[1] == 3):
-        raise ShapeError(
-            f"Expected `{name}` to have shape (3,) or (N, 3), got {_shape(array.shape)}.",
-            argument=name,
+        return DaskAnalysis(
+            *(np.asarray(v) if np.ndim(v) == 0 else np.ascontiguousarray(v) for v in values)
         )
-    if array.ndim == 2 and np.isnan(array.shape[0]):
-        raise ShapeError(
-            f"Expected `{name}` to have a known number of rows, got unknown chunk sizes "
-            "(call .compute_chunk_sizes() first).",
-            argument=name,
-        )
-    return array
-
-
-def _rows(body: Any, omega0: Any) -> int:
-    """The number of bodies N: the rows of ``omega0`` (N, 3); ``body`` has N rows or one (3,)
-    row shared by all."""
-    if omega0.ndim != 2:
-        raise ShapeError(
-            "Expected `omega0` to have shape (N, 3) (one row per body), "
-            f"got {_shape(omega0.shape)}.",
-            argument="omega0",
-        )
-    n = int(omega0.shape[0])
-    if body.ndim == 2 and int(body.shape[0]) != n:
-        raise ShapeError(
-            f"Expected `body` to have shape (3,) or ({n}, 3) to match `omega0`, "
-            f"got {_shape(body.shape)}.",
-            argument="body",
-        )
-    return n
-
-
-def _row_chunks(chunks: Any, n: int, record_bytes: int, *arrays: Any) -> tuple[int, ...]:
-    """Rows per block: ``chunks`` if given, else the first dask input's, else blocks of about
-    dask's ``array.chunk-size`` of output."""
-    if chunks is not None:
-        size = as_integer("chunks", chunks, minimum=1)
-        return da.core.normalize_chunks((size,), (n,))[0]
-    for array in arrays:
-        if isinstance(array, da.Array) and array.ndim >= 2:
-            return tuple(int(c) for c in array.chunks[0])
-    from dask.utils import parse_bytes
-
-    target = parse_bytes(dask.config.get("array.chunk-size"))
-    size = max(1, target // max(record_bytes, 1))
-    return da.core.normalize_chunks((size,), (n,))[0]
-
-
-def _blocked(array: Any, n: int, row_chunks: tuple[int, ...]) -> da.Array:
-    """(N, ...) dask array with the given row chunks and one chunk along every other axis; a
-    (3,) row is broadcast to every body."""
-    if array.ndim == 1:
-        if not isinstance(array, da.Array):
-            array = da.from_array(array, chunks=-1)
-        return da.broadcast_to(array, (n, 3), chunks=(row_chunks, 3))
-    chunks = (row_chunks, *array.shape[1:])
-    if isinstance(array, da.Array):
-        return array.rechunk(chunks)
-    return da.from_array(array, chunks=chunks)
-
-
-def _orientation_input(orientation0: Any, n: int) -> tuple[Any, Any, bool]:
-    """(shared, per_body, stack): one orientation for every body, or an (N, 4) or (N, 3, 3)
-    array; ``stack`` when the array holds the quaternions of a scipy Rotation stack."""
-    if orientation0 is None:
-        return None, None, False
-    from scipy.spatial.transform import Rotation
-
-    if isinstance(orientation0, Rotation):
-        if orientation0.single or len(orientation0) == 1:
-            return orientation0, None, False
-        quaternions = orientation0.as_quat()
-        if quaternions.shape != (n, 4):
-            raise ShapeError(
-                f"Expected `orientation0` to hold 1 or {n} rotations, got {len(orientation0)}.",
-                argument="orientation0",
-            )
-        return None, quaternions, True
-    if isinstance(orientation0, da.Array):
-        if orientation0.dtype.kind not in "biuf":
-            raise TypeError(
-                "Expected `orientation0` to be an array of real numbers, "
-                f"got dtype {orientation0.dtype}."
-            )
-        per_body = orientation0.astype(np.float64)
-    else:
-        per_body = _as_float_array("orientation0", orientation0)
-    if per_body.shape in ((4,), (3, 3)) or (per_body.ndim >= 2 and per_body.shape[0] == 1):
-        return np.asarray(per_body), None, False  # one rotation for all: small, computed now
-    if per_body.shape not in ((n, 4), (n, 3, 3)):
-        raise ShapeError(
-            "Expected `orientation0` to be a scipy Rotation, a (3, 3) matrix, an (x, y, z, w) "
-            f"quaternion, or ({n}, 4) quaternions or ({n}, 3, 3) matrices (one per body), "
-            f"got shape {_shape(per_body.shape)}.",
-            argument="orientation0",
-        )
-    return None, per_body, False
-
-
-def _in_block(error: PolhodeError, rows: NDArray[np.int64]) -> PolhodeError:
-    """The error of a block, its body numbered in the whole batch."""
-    if error.body is None or not rows.size:
-        return error
-    return error.for_body(int(rows[error.body]))
 
 
 # -------------------------------------------------------------------------------------------------
@@ -435,11 +375,70 @@ def _simulate_block(
     try:
         traj = simulation.simulate(moments, omega0, t, **options)
     except PolhodeError as error:
-        raise _in_block(error, rows) from error
+        raise _inputs.in_block(error, rows) from error
     records = np.empty(moments.shape[0], dtype=record_dtype)
     for name in record_dtype.names or ():
         records[name] = traj.stats[name] if name in traj.stats else getattr(traj, name)
     return records
+
+
+#: One block's fastest body (polhode._core.fastest_rate over its rows).
+_RATE_DTYPE = np.dtype([("rate", np.float64), ("body", np.int64), ("pace", "U16")])
+
+
+def _rate_block(
+    rows: NDArray[np.int64],
+    moments: NDArray[np.float64],
+    omega0: NDArray[np.float64],
+    *rest: Any,
+    t_end: float,
+    options: dict[str, Any],
+    stack: bool = False,
+) -> NDArray[Any]:
+    """The fastest rate of a block's bodies, its body numbered in the whole batch: one record."""
+    if rest:
+        orientation0 = rest[0]
+        if stack:
+            from scipy.spatial.transform import Rotation
+
+            orientation0 = Rotation(orientation0, normalize=False)
+        options = {**options, "orientation0": orientation0}
+    try:
+        rate = simulation.fastest_rate(moments, omega0, t_end, **options)
+    except PolhodeError as error:
+        raise _inputs.in_block(error, rows) from error
+    found = np.empty(1, dtype=_RATE_DTYPE)
+    found[0] = (rate["rate"], rows[rate["body"]] if rows.size else 0, rate["pace"])
+    return found
+
+
+def _end_time_grid(
+    end: float, args: list[Any], n: int, options: dict[str, Any], stack: bool
+) -> tuple[NDArray[np.float64], dict[str, Any]]:
+    """The output times polhode.simulate takes for the end time ``end`` and the whole batch
+    (polhode._sampling), from the fastest rate of each block's bodies (read once, no steps)."""
+    rate = simulation.fastest_rate(np.zeros((0, 3)), np.zeros((0, 3)), end, **options)
+    if n:
+        blocks = da.blockwise(
+            _rate_block,
+            "i",
+            *args,
+            concatenate=True,
+            adjust_chunks={"i": 1},
+            token="polhode-fastest-rate",
+            dtype=_RATE_DTYPE,
+            meta=np.empty((0,), dtype=_RATE_DTYPE),
+            t_end=end,
+            options=options,
+            stack=stack,
+        )
+        (found,) = _interruptible(dask.compute, blocks)
+        # The first of the fastest, as the core picks over one batch.
+        for block in found:
+            if block["rate"] > rate["rate"]:
+                rate.update(rate=float(block["rate"]), body=int(block["body"]))
+                rate["pace"] = str(block["pace"])
+    return resolving_times(as_scalar("t0", options.get("t0", 0.0)), end, rate, n)
 
 
 def _field(records: da.Array, name: str) -> da.Array:
@@ -460,20 +459,32 @@ def _get_field(records: NDArray[Any], name: str) -> NDArray[Any]:
     return records[name]
 
 
-def _trajectory(records: da.Array, t: NDArray[np.float64], method: str) -> DaskTrajectory:
+def _trajectory(
+    records: da.Array,
+    t: NDArray[np.float64],
+    method: str,
+    sampling: dict[str, Any] | None = None,
+    single: bool = False,
+) -> DaskTrajectory:
+    """The trajectory of the bodies of ``records``; ``single``: of the one body it holds, its
+    arrays without the leading N."""
     names = records.dtype.names or ()
 
     def field(name: str) -> da.Array | None:
-        return _field(records, name) if name in names else None
+        if name not in names:
+            return None
+        return _field(records, name)[0] if single else _field(records, name)
 
     return DaskTrajectory(
         t=t,
         **{name: field(name) for name in OUTPUTS},
-        steps=_field(records, "steps"),
-        rejected_steps=_field(records, "rejected_steps"),
-        evaluations=_field(records, "evaluations"),
+        steps=field("steps"),
+        rejected_steps=field("rejected_steps"),
+        evaluations=field("evaluations"),
         method=method,
         records=records,
+        sampling=sampling,
+        single=single,
     )
 
 
@@ -496,7 +507,12 @@ def simulate(
     omega0 : (N, 3) dask.array.Array or array_like
         Initial angular velocity of each body, in principal axes: its rows set N.
     t : float or (M,) array_like
-        Output times or an end time, as in :func:`polhode.simulate` (numpy, shared by all).
+        Output times or an end time, as in :func:`polhode.simulate` (numpy, shared by all). An
+        end time gives the output times ``polhode.simulate`` gives the whole batch (enough to
+        resolve its fastest body's motion: see ``Trajectory.stats["sampling"]``); to find them,
+        this call reads the inputs once, block by block (the fastest rate of each block's
+        bodies at t0, no steps taken): with dask inputs, give ``t`` as an array to keep it from
+        computing them.
     orientation0 : optional
         One orientation for every body (scipy Rotation, (3, 3) matrix, xyzw quaternion), or one
         per body: (N, 4) quaternions or (N, 3, 3) matrices (dask or numpy).
@@ -545,10 +561,10 @@ def simulate(
     >>> damped.method, damped.rotor_rates.shape
     ('dop853', (6, 5, 1, 3))
     """
-    moments = _as_input("body", body)
-    omega0 = _as_input("omega0", omega0)
-    n = _rows(moments, omega0)
-    shared, per_body, stack = _orientation_input(orientation0, n)
+    moments = _inputs.as_input("body", body)
+    omega0 = _inputs.as_input("omega0", omega0)
+    n = _inputs.rows_of(moments, omega0)
+    shared, per_body, stack = _inputs.orientation_input(orientation0, n)
     if rotors is not None:
         options = {**options, "rotors": as_rotors(rotors)}
     # The keywords and `t`: polhode.simulate on an empty batch checks them all for free.
@@ -573,18 +589,39 @@ def simulate(
             orientation=options.get("orientation", True),
             rotors=rotors_now,
         )
+    block_options = options if per_body is not None else {**options, "orientation0": shared}
+
+    def blocked(record_bytes: int) -> list[Any]:
+        """The row indices and the inputs, in blocks of about dask's chunk size of output."""
+        row_chunks = _inputs.row_chunks(chunks, n, record_bytes, moments, omega0, per_body)
+        args: list[Any] = [
+            da.arange(n, chunks=(row_chunks,)),
+            "i",
+            _inputs.blocked(moments, n, row_chunks),
+            "ij",
+            _inputs.blocked(omega0, n, row_chunks),
+            "ij",
+        ]
+        if per_body is not None:
+            args += [_inputs.blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
+        return args
+
+    sampling = None
+    if np.ndim(t) == 0:
+        # The output times of polhode.simulate for the whole batch: from the fastest body's
+        # rate, which each block finds for its own (the inputs read once, no steps).
+        t, sampling = _end_time_grid(
+            float(dry.t[-1]), blocked(_record_dtype(dry).itemsize), n, block_options, stack
+        )
+        dry = simulation.simulate(
+            np.zeros((0, 3)), np.zeros((0, 3)), t, orientation0=dry_orientation, **options
+        )
+        if sampling["extra_steps"]:
+            # As polhode.simulate: max_steps bounds the steps of the run to the end time alone.
+            most = as_integer("max_steps", options.get("max_steps", simulation.MAX_STEPS))
+            block_options = {**block_options, "max_steps": most + sampling["extra_steps"]}
     dtype = _record_dtype(dry)
-    row_chunks = _row_chunks(chunks, n, dtype.itemsize, moments, omega0, per_body)
-    args: list[Any] = [
-        da.arange(n, chunks=(row_chunks,)),
-        "i",
-        _blocked(moments, n, row_chunks),
-        "ij",
-        _blocked(omega0, n, row_chunks),
-        "ij",
-    ]
-    if per_body is not None:
-        args += [_blocked(per_body, n, row_chunks), "ikl"[: per_body.ndim]]
+    args = blocked(dtype.itemsize)
     # Indices j, k, l (the columns) have one chunk each: concatenate hands over plain arrays.
     records = da.blockwise(
         _simulate_block,
@@ -596,10 +633,10 @@ def simulate(
         meta=np.empty((0,), dtype=dtype),
         t=t,
         record_dtype=dtype,
-        options=options if per_body is not None else {**options, "orientation0": shared},
+        options=block_options,
         stack=stack,
     )
-    return _trajectory(records, dry.t, dry.stats["method"])
+    return _trajectory(records, dry.t, dry.stats["method"], sampling)
 
 
 # -------------------------------------------------------------------------------------------------
@@ -704,29 +741,29 @@ def analyze(
     >>> [round(float(f), 4) for f in flips * np.arange(1.0, 7.0)]
     [19.5529, 19.5529, 19.5529, 19.5529, 19.5529, 19.5529]
     """
-    moments = _as_input("body", body)
-    omega0 = _as_input("omega0", omega0)
+    moments = _inputs.as_input("body", body)
+    omega0 = _inputs.as_input("omega0", omega0)
     if rtol is not None:
         rtol = as_scalar("rtol", rtol)
         if not (np.isfinite(rtol) and rtol >= 0):
             raise ArgumentError(
                 f"Expected `rtol` to be non-negative and finite, got {rtol}.", argument="rtol"
             )
-    n = _rows(moments, omega0)
+    n = _inputs.rows_of(moments, omega0)
     rotors = None if rotors is None else as_rotors(rotors)
     if isinstance(moments, np.ndarray) and isinstance(omega0, np.ndarray):
         # Numpy values at once, as simulate checks them (no steps; the rotors inside each body).
         simulation.simulate(moments, omega0, [0.0], method="dop853" if rotors else "exact",
                          orientation=False, rotors=rotors)
-    row_chunks = _row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
+    row_chunks = _inputs.row_chunks(chunks, n, _ANALYSIS_DTYPE.itemsize, moments, omega0)
     records = da.blockwise(
         _analyze_block,
         "i",
         da.arange(n, chunks=(row_chunks,)),
         "i",
-        _blocked(moments, n, row_chunks),
+        _inputs.blocked(moments, n, row_chunks),
         "ij",
-        _blocked(omega0, n, row_chunks),
+        _inputs.blocked(omega0, n, row_chunks),
         "ij",
         concatenate=True,
         token="polhode-analyze",

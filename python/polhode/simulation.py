@@ -6,19 +6,22 @@ import math
 import os
 import sys
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polhode import _chunks, _core, _display
-from polhode._chunks import accumulate, spans, unwrap
+from polhode import _core, _display
+from polhode._chunks import spans
 from polhode._coerce import as_flag, as_integer, as_scalar
 from polhode._coerce import as_float_array as _as_float_array
+from polhode._euler import euler_angles
+from polhode._fields import Fields
 from polhode._inputs import core_body as _body
+from polhode._quantities import QUANTITIES, attribute_docs, numbers_per_time
+from polhode._sampling import describe, resolving_times
 from polhode.errors import ArgumentError, NonFiniteError
 from polhode.rotors import as_rotors
 from polhode.torque import as_torque
@@ -31,36 +34,28 @@ __all__ = ["Trajectory", "simulate"]
 #: The methods of :func:`simulate` (the core parses the name).
 METHODS = tuple(_core.METHODS)
 
+#: The default ``max_steps`` of :func:`simulate`.
+MAX_STEPS = 100_000_000
 
-@dataclass(frozen=True, repr=False)
-class Trajectory:
-    """The motion at the requested times.
+
+@dataclass(frozen=True, repr=False, eq=False)
+class Trajectory(Fields[NDArray[np.float64]]):
+    """The motion at the output times.
 
     A batch keeps its leading N: ``omega`` is (N, M, 3) for N bodies, (M, 3) for one.
 
     Attributes
     ----------
     t : (M,) numpy.ndarray
-        Output times.
-    omega : (..., M, 3) numpy.ndarray
-        Angular velocity in body axes.
-    quaternion : (..., M, 4) numpy.ndarray or None
-        Body-to-space orientation, scalar-last (x, y, z, w), continuous in time; None with
-        ``orientation=False``.
-    angular_momentum_space : (..., M, 3) numpy.ndarray or None
-        Angular momentum in space axes (conserved without torque); None without orientation.
-        With rotors, the total of the body and its rotors.
-    angular_momentum_body : (..., M, 3) numpy.ndarray
-        Angular momentum in body axes; with rotors, the total.
-    energy : (..., M) numpy.ndarray
-        Rotational kinetic energy; with rotors, the total (the rotors' spin included).
-    rotor_rates : (..., M, R, 3) numpy.ndarray or None
-        With R rotors, each rotor's angular velocity relative to the body, in body axes (a
-        wheel's is its rate along its axis); None without rotors.
+        Output times (s).
+{quantities}
     moments : (..., 3) numpy.ndarray
         The principal moments the motion was integrated with (about the pivot for a heavy top).
     stats : dict
         ``steps``, ``rejected_steps``, ``evaluations`` (per body), ``wall_time`` (s), ``method``.
+
+    The quantities (every field but ``t``, ``moments`` and ``stats``) are those of the core's
+    table, ``polhode._core.QUANTITIES``, each in SI units.
 
     Examples
     --------
@@ -82,15 +77,121 @@ class Trajectory:
     ((3, 2, 3), None)
     """
 
-    t: NDArray[np.float64]
-    omega: NDArray[np.float64]
-    quaternion: NDArray[np.float64] | None
-    angular_momentum_space: NDArray[np.float64] | None
-    angular_momentum_body: NDArray[np.float64]
-    energy: NDArray[np.float64]
-    rotor_rates: NDArray[np.float64] | None
     moments: NDArray[np.float64]
     stats: dict[str, Any]
+
+    # What the exact solution needs to be evaluated at other times (see __call__), beside the
+    # fields: neither one of them nor compared.
+    __slots__ = ("_motion",)
+
+    def __eq__(self, other: object) -> bool:
+        """Equal trajectories: the same output times, quantities (None where the other has
+        None) and moments, exactly (``numpy.array_equal``), and the same method and costs;
+        the wall time and the account of how the times were chosen are not compared."""
+        if type(other) is not type(self):
+            return NotImplemented
+        assert isinstance(other, Trajectory)
+        for name in ("t", *OUTPUTS):
+            a, b = getattr(self, name), getattr(other, name)
+            if (a is None) != (b is None):
+                return False
+            if a is not None and (np.shape(a) != np.shape(b) or not np.array_equal(a, b)):
+                return False
+        mine, theirs = _compared(self.stats), _compared(other.stats)
+        return mine.keys() == theirs.keys() and all(
+            np.array_equal(mine[k], theirs[k]) for k in mine
+        )
+
+    __hash__ = None  # type: ignore[assignment]  # equal by value, and mutable arrays
+
+    def __getstate__(self) -> tuple[dict[str, Any], dict[str, Any] | None]:
+        """The fields, and the exact solution's inputs where it has them (pickle, copy)."""
+        motion = getattr(self, "_motion", None)
+        return dict(self.__dict__), None if motion is None else {"_motion": motion}
+
+    def __setstate__(self, state: Any) -> None:
+        """The fields set as ``simulate`` sets them (the dataclass is frozen), at once."""
+        fields, slots = state if isinstance(state, tuple) else (state, None)
+        self.__dict__.update(fields)
+        for name, value in (slots or {}).items():
+            object.__setattr__(self, name, value)
+
+    def __len__(self) -> int:
+        """The number of bodies of a batch (TypeError for one body's trajectory)."""
+        return _bodies(self, "len()")
+
+    def __getitem__(self, key: Any) -> Trajectory:
+        """Bodies of a batch, as numpy indexes its leading axis: ``sweep[k]`` (an integer,
+        negative from the end) is body k's trajectory, equal to that body simulated alone at
+        the same output times; ``sweep[a:b]``, a list or an array of indices or a boolean mask
+        is a batch of those bodies. The arrays are numpy's views of the batch's."""
+        n = _bodies(self, "indexing")
+        single = isinstance(key, int | np.integer) and not isinstance(key, bool | np.bool_)
+        if single:
+            if not -n <= int(key) < n:
+                raise IndexError(f"body {int(key)} is out of range for a batch of {n} bodies.")
+            key = int(key)
+        elif not isinstance(key, slice):
+            key = np.asarray(key)
+            if key.ndim != 1 or key.dtype.kind not in "biu" or (key.size == 0 and n == 0):
+                raise TypeError(
+                    "Expected a body's index, a slice, or a 1-D array of indices or of bools to "
+                    f"index a batch Trajectory, got {type(key).__name__}"
+                    + (f" of shape {key.shape} and dtype {key.dtype}." if key.ndim else ".")
+                )
+            np.zeros(n)[key]  # numpy's IndexError for an index out of range or a bad mask
+        fields: dict[str, Any] = {
+            name: None if getattr(self, name) is None else getattr(self, name)[key]
+            for name in OUTPUTS
+        }
+        stats = {k: v for k, v in self.stats.items() if k != "wall_time"}
+        for name in ("steps", "rejected_steps", "evaluations"):
+            if name in stats:
+                stats[name] = int(stats[name][key]) if single else stats[name][key]
+        part = object.__new__(Trajectory)
+        part.__dict__.update({"t": self.t, **fields, "stats": stats})
+        motion = getattr(self, "_motion", None)
+        if motion is not None:
+            object.__setattr__(part, "_motion", motion.bodies(key, n))
+        return part
+
+    def __call__(self, t: Any) -> Trajectory:
+        """The motion at other output times ``t`` (a time or an array of them, each >= t0):
+        the exact solution's dense output, for a trajectory of ``method="exact"``.
+
+        The closed form at any time: ``traj(t)`` is ``polhode.simulate`` of the same inputs at
+        the times ``t`` (one time gives M = 1), bit for bit; each output depends on its time
+        alone but the quaternion's sign, kept continuous along the times asked for. Another
+        method has no dense output here: simulate again at the times needed (TypeError).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import polhode as ph
+        >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.01, 1.0, 0.01], 100.0)
+        >>> fine = sol(np.linspace(40.0, 41.0, 1001))  # a millisecond apart near t = 40
+        >>> fine.omega.shape, bool(np.array_equal(sol(sol.t).omega, sol.omega))
+        ((1001, 3), True)
+        """
+        motion = getattr(self, "_motion", None)
+        if motion is None:
+            raise TypeError(
+                f"This Trajectory (method {self.stats.get('method')!r}) cannot be evaluated at "
+                "other times: only the exact solution has a dense output here. Simulate again "
+                "with the output times you need: polhode.simulate(..., t=times)."
+            )
+        times = _as_float_array("t", t)
+        if times.ndim == 0:
+            times = times.reshape(1)
+        return simulate(
+            motion.body,
+            motion.omega0,
+            times,
+            orientation0=motion.orientation0,
+            t0=motion.t0,
+            method="exact",
+            orientation=motion.orientation,
+        )
 
     @property
     def orientation(self) -> Rotation | list[Rotation] | None:
@@ -112,6 +213,9 @@ class Trajectory:
             if self.t.size
             else "0"
         )
+        if "sampling" in self.stats:
+            # An end time was given: how its output times were chosen (polhode._sampling).
+            times += f" ({describe(self.stats['sampling'])})"
         steps = self.stats.get("steps")
         rows = [
             ("bodies", str(bodies)),
@@ -192,16 +296,16 @@ class Trajectory:
         quaternion = self.quaternion
         if quaternion.size == 0:
             # An empty batch: no angles, but the axes still checked.
-            _euler_angles(np.array([[0.0, 0.0, 0.0, 1.0]]), seq)
+            euler_angles(np.array([[0.0, 0.0, 0.0, 1.0]]), seq)
             return np.zeros(quaternion.shape[:-1] + (3,))
         if quaternion.ndim == 2:
-            angles = _euler_angles(quaternion, seq)
+            angles = euler_angles(quaternion, seq)
         else:
             # Each body's angles straight into the batch's array (chunk by chunk: Ctrl-C).
             angles = np.empty(quaternion.shape[:-1] + (3,))
             rows = angles.reshape(-1, *angles.shape[-2:])
             for k, q in enumerate(quaternion.reshape(-1, *quaternion.shape[-2:])):
-                one = _euler_angles(q, seq)
+                one = euler_angles(q, seq)
                 for span in spans(len(one)):
                     rows[k, span] = one[span]
         if degrees:
@@ -211,98 +315,53 @@ class Trajectory:
         return angles
 
 
-def _euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float64]:
-    """Euler angles (M, 3) of the orientations (M, 4), continuous in time (see
-    :meth:`Trajectory.euler_angles`).
-
-    In chunks of :data:`polhode._chunks.CHUNK` output times, the sequential steps (unwrapping,
-    the running sums) carried from chunk to chunk, so that Ctrl-C stops a long series within
-    a chunk's work (scipy's and numpy's calls hold the interpreter) with the bits of the whole
-    series done at once."""
-    from scipy.spatial.transform import Rotation
-
-    m = len(quaternion)
-    angles = np.empty((m, 3))
-    # scipy's conversion takes about 0.1 us per row: a quarter chunk at a time (~30 ms).
-    for span in spans(m, max(1, _chunks.CHUNK // 4)):
-        try:
-            with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="Gimbal lock", category=UserWarning)
-                angles[span] = Rotation.from_quat(quaternion[span]).as_euler(seq)
-        except ValueError as error:
-            raise ArgumentError(
-                f"Expected `seq` to be three axes as in scipy's as_euler (e.g. 'ZXZ', 'ZYX', "
-                f"'xyz'), got {seq!r}: {error}",
-                argument="seq",
-            ) from None
-    if m == 0:
-        return angles
-    # The two ends of the middle angle's range, and at each the combination first + sign *
-    # third that the rotation depends on there (the other one is free): found by moving the
-    # split both ways at a generic point of the end.
-    proper = seq[0].lower() == seq[2].lower()
-    ends = np.array([0.0, np.pi]) if proper else np.array([-np.pi / 2, np.pi / 2])
-    probe = np.array([[0.3, end, 0.5] for end in ends])
-    moved = probe + [0.2, 0.0, -0.2]
-    keeps_sum = (
-        Rotation.from_euler(seq, moved) * Rotation.from_euler(seq, probe).inv()
-    ).magnitude()
-    signs = np.where(keeps_sum < 1e-12, 1.0, -1.0)
-    nearest = np.empty(m, dtype=np.intp)
-    locked = np.empty(m, dtype=bool)
-    for span in spans(m):
-        a = angles[span]
-        nearest[span] = np.argmin(np.abs(a[:, 1, None] - ends), axis=1)
-        locked[span] = (a[:, 2] == 0.0) & (np.abs(a[:, 1] - ends[nearest[span]]) <= 1e-6)
-    sign = signs[nearest]
-    # At a lock scipy sets the third angle to zero and puts the combination into the first:
-    # the third keeps its previous value instead (0 before any), the first takes the rest.
-    if locked.any():
-        third = unwrap(angles[:, 2])
-        index = np.empty(m, dtype=np.intp)
-        for span in spans(m):
-            index[span] = np.where(~locked[span], np.arange(span.start, span.stop), -1)
-        index = accumulate(np.maximum, index)
-        for span in spans(m):
-            here, at = locked[span], index[span]
-            keep = np.where(at >= 0, third[np.maximum(at, 0)], 0.0)[here]
-            a = angles[span]
-            a[here, 0] -= sign[span][here] * keep
-            a[here, 2] = keep
-    angles = unwrap(angles)
-    # Near a lock (the middle angle within pi/8 of an end) the first and third angles swing by
-    # about pi and unwrapping them apart can leave a whole turn in the combination that sets
-    # the rotation there, which moves by less than pi between two times: whole turns of the
-    # first angle put it back.
-    near = np.empty(m, dtype=bool)
-    for span in spans(m):
-        near[span] = np.abs(angles[span, 1] - ends[nearest[span]]) <= np.pi / 8
-    turns = np.empty(m)
-    for span in spans(m):
-        start, stop = span.start, span.stop
-        combination = angles[span, 0] + sign[span] * angles[span, 2]
-        # previous[k] = angles[k - 1, 0] + sign[k] angles[k - 1, 2], 0 at k = 0.
-        low = max(start - 1, 0)
-        previous = angles[low : stop - 1, 0] + sign[max(start, 1) : stop] * angles[
-            low : stop - 1, 2
-        ]
-        near_before = near[low : stop - 1]
-        if start == 0:
-            previous = np.concatenate([[0.0], previous])
-            near_before = np.concatenate([[False], near_before])
-        part = np.round((combination - previous) / (2 * np.pi))
-        if start == 0:
-            part[0] = 0.0
-        part[~(near[span] | near_before)] = 0.0
-        turns[span] = part
-    total = accumulate(np.add, turns)
-    for span in spans(m):
-        angles[span, 0] -= 2 * np.pi * total[span]
-    return angles
+def _bodies(trajectory: Trajectory, what: str) -> int:
+    """The number of bodies of a batch trajectory; TypeError naming ``what`` for one body."""
+    if np.ndim(trajectory.omega) == 2:
+        raise TypeError(
+            f"{what} of one body's Trajectory: it is no batch (its omega is (M, 3)); "
+            "len(traj.t) is its number of output times."
+        )
+    return int(np.shape(trajectory.omega)[0])
 
 
-#: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``).
-OUTPUTS = tuple(name for name in Trajectory.__dataclass_fields__ if name not in ("t", "stats"))
+def _compared(stats: dict[str, Any]) -> dict[str, Any]:
+    """What equal trajectories share of their stats: not the wall time, nor the account of how
+    the times were chosen (a batch's body and the body simulated alone at its times)."""
+    return {k: v for k, v in stats.items() if k not in ("wall_time", "sampling")}
+
+
+class _Motion(NamedTuple):
+    """The inputs of an exact run, to evaluate it at other times (Trajectory.__call__)."""
+
+    body: Any
+    omega0: NDArray[np.float64]
+    orientation0: NDArray[np.float64] | None
+    t0: float
+    orientation: bool
+
+    def bodies(self, key: Any, n: int) -> _Motion:
+        """The inputs of the bodies ``key`` of a batch of ``n``: what is given per body (N
+        moments or Bodies, N orientations) taken as numpy indexes it, what is shared kept."""
+        picked = np.arange(n)[key]
+        body = self.body
+        if isinstance(body, list):
+            body = body[int(picked)] if np.ndim(picked) == 0 else [body[k] for k in picked]
+        elif isinstance(body, np.ndarray) and body.ndim == 2:
+            body = body[key]
+        q = self.orientation0
+        if q is not None and q.ndim >= 2 and q.shape[0] == n and q.shape != (3, 3):
+            q = q[key]
+        return self._replace(body=body, omega0=self.omega0[key], orientation0=q)
+
+
+Trajectory.__doc__ = (Trajectory.__doc__ or "").replace(
+    "{quantities}", attribute_docs("numpy.ndarray")
+)
+
+#: The Trajectory fields computed by the core, by name (all but ``t`` and ``stats``): the
+#: quantities of the core's table, and ``moments``.
+OUTPUTS = (*(q.name for q in QUANTITIES), "moments")
 
 
 def _available_memory() -> int | None:
@@ -323,6 +382,12 @@ def _available_memory() -> int | None:
 #: Output sizes (bytes) that :func:`_check_fits` takes as fitting without asking the system.
 _ALWAYS_FITS = 64 * 2**20
 
+#: Output times of one body without rotors that :func:`simulate` takes as fitting without
+#: :func:`_check_fits`: all of their outputs fit in :data:`_ALWAYS_FITS` (asserted here, for
+#: the quantities of the core's table).
+_ONE_BODY_FITS = 100_000
+assert _ONE_BODY_FITS * numbers_per_time(True, 0) * 8 <= _ALWAYS_FITS
+
 
 def _check_fits(
     omega0: NDArray[np.float64], times: NDArray[np.float64], orientation: bool, rotors: int = 0
@@ -333,8 +398,7 @@ def _check_fits(
     most of a small call); should even they not fit, the core's allocation fails cleanly with
     MemoryError."""
     n = omega0.shape[0] if omega0.ndim == 2 else 1
-    # The numbers of every output quantity at one time.
-    per_time = (14 if orientation else 7) + 3 * rotors
+    per_time = numbers_per_time(orientation, rotors)
     size = float(n) * float(times.size) * per_time * 8
     if size <= _ALWAYS_FITS:
         return
@@ -394,6 +458,73 @@ def _progress(progress: Any) -> tuple[Callable[[float], object] | None, Any]:
     return progress, None
 
 
+def _settings(
+    t0: float,
+    method: str,
+    dt: Any,
+    order: Any,
+    rtol: Any,
+    atol: Any,
+    torque: Any,
+    rotors: Any,
+) -> dict[str, Any]:
+    """The keywords of a run that the core's simulate and fastest_rate share, converted."""
+    return {
+        "t0": t0,
+        "method": method,
+        "dt": None if dt is None else as_scalar("dt", dt),
+        "order": as_integer("order", order),
+        "rtol": rtol if type(rtol) is float else as_scalar("rtol", rtol),
+        "atol": None if atol is None else as_scalar("atol", atol),
+        "torque": None if torque is None else as_torque(torque),
+        "rotors": rotors,
+    }
+
+
+def fastest_rate(
+    body: Any,
+    omega0: Any,
+    t_end: float,
+    *,
+    orientation0: Any = None,
+    method: str = "auto",
+    dt: float | None = None,
+    order: int = 4,
+    rtol: float = 1e-10,
+    atol: float | None = None,
+    torque: Any = None,
+    t0: float = 0.0,
+    rotors: Any = None,
+    **unused: Any,
+) -> dict[str, Any]:
+    """The fastest rate of the run :func:`simulate` makes of these arguments to the end time
+    ``t_end`` (``polhode._core.fastest_rate``'s dict: ``rate``, ``pace``, ``body``, ``steps``,
+    ``method``; and ``dt``), which sets its output times (polhode._sampling); the keywords
+    that do not change it (``orientation``, ``max_steps``, ``progress``) are taken and left
+    alone. For :mod:`polhode.dask`, which asks it of each block of a batch."""
+    t0 = as_scalar("t0", t0)
+    rate = dict(
+        _core.fastest_rate(
+            _body(body),
+            _as_float_array("omega0", omega0),
+            as_scalar("t", t_end),
+            orientation0=None if orientation0 is None else _orientation0(orientation0),
+            **_settings(
+                t0,
+                method,
+                dt,
+                order,
+                rtol,
+                atol,
+                torque,
+                None if rotors is None else as_rotors(rotors),
+            ),
+        )
+    )
+    rate["dt"] = None if dt is None else as_scalar("dt", dt)
+    return rate
+
+
 def simulate(
     body: Any,
     omega0: Any,
@@ -408,7 +539,7 @@ def simulate(
     torque: Any = None,
     t0: float = 0.0,
     orientation: bool = True,
-    max_steps: int = 100_000_000,
+    max_steps: int = MAX_STEPS,
     progress: bool | Callable[[float], object] = False,
     rotors: Any = None,
 ) -> Trajectory:
@@ -427,7 +558,12 @@ def simulate(
     omega0 : (3,) or (N, 3) array_like
         Initial angular velocity in body axes at ``t0``: one body, or N.
     t : float or (M,) array_like
-        Output times (non-decreasing, >= t0), or an end time (outputs at t0 and t).
+        Output times (non-decreasing, >= t0), or an end time: then output times from t0 to t
+        that resolve the motion, 48 per turn at its fastest rate (omega's period in the body,
+        the precession, the spin, a torque's or the rotors' rate at t0), at least 49 and at
+        most 100001 (a batch: 10^6 outputs in all); a fixed-step method's every so many steps,
+        and ``dop853`` (one body) the end of each accepted step as well. How they were chosen
+        is ``stats["sampling"]`` (see ``polhode._sampling``), and the trajectory's repr says it.
     orientation0 : optional
         Initial body-to-space orientation: scipy Rotation, (3, 3) matrix, xyzw quaternion, or N
         of them (default identity).
@@ -515,6 +651,7 @@ def simulate(
     if type(t0) is not float:
         t0 = as_scalar("t0", t0)
     times = _as_float_array("t", t)
+    end = None
     if times.shape == (1,) and np.ndim(t) == 0:
         end = float(times[0])
         if not math.isfinite(end):
@@ -525,7 +662,6 @@ def simulate(
             raise ArgumentError(
                 f"Invalid `t`: expected an end time >= t0 = {t0:g}, got {end:g}.", argument="t"
             )
-        times = np.array([t0, end])
     elif times is t:
         # The trajectory's own times, not a view the caller may change afterwards.
         times = times.copy()
@@ -533,27 +669,33 @@ def simulate(
     rotors = None if rotors is None else as_rotors(rotors)
     if type(orientation) is not bool:
         orientation = as_flag("orientation", orientation)
-    # One body at up to 10^5 output times (at most 14 numbers each) fits in _ALWAYS_FITS.
-    if rotors is not None or omega.ndim != 1 or times.size > 100_000:
+    core_body = _body(body)
+    start = None if orientation0 is None else _orientation0(orientation0)
+    settings = _settings(t0, method, dt, order, rtol, atol, torque, rotors)
+    sampling = None
+    if end is not None:
+        # An end time: output times that resolve the motion (polhode._sampling).
+        rate = _core.fastest_rate(core_body, omega, end, orientation0=start, **settings)
+        rate["dt"] = settings["dt"]
+        times, sampling = resolving_times(
+            t0, end, rate, None if omega.ndim == 1 else omega.shape[0]
+        )
+    # One body at up to 10^5 output times fits in _ALWAYS_FITS (see _ONE_BODY_FITS).
+    if rotors is not None or omega.ndim != 1 or times.size > _ONE_BODY_FITS:
         _check_fits(omega, times, orientation, 0 if rotors is None else len(rotors))
     callback, bar = (None, None) if progress is False else _progress(progress)
     try:
         outputs = _core.simulate(
-            _body(body),
+            core_body,
             omega,
             times,
-            orientation0=None if orientation0 is None else _orientation0(orientation0),
-            t0=t0,
-            method=method,
-            dt=None if dt is None else as_scalar("dt", dt),
-            order=as_integer("order", order),
-            rtol=rtol if type(rtol) is float else as_scalar("rtol", rtol),
-            atol=None if atol is None else as_scalar("atol", atol),
-            torque=None if torque is None else as_torque(torque),
+            orientation0=start,
             orientation=orientation,
-            max_steps=as_integer("max_steps", max_steps),
+            max_steps=as_integer("max_steps", max_steps)
+            + (0 if sampling is None else sampling["extra_steps"]),
             progress=callback,
-            rotors=rotors,
+            every_step=sampling is not None and sampling["every_step"],
+            **settings,
         )
     finally:
         if bar is not None:
@@ -561,7 +703,23 @@ def simulate(
     # The core returns every field by name, in order (``t`` is ``times``; ``stats`` lacks only
     # the wall time): the same object as ``Trajectory(**outputs)``, its fields set in one step
     # (a frozen dataclass's ``__init__`` sets each through ``object.__setattr__``).
+    if sampling is not None:
+        outputs["stats"]["sampling"] = sampling
     outputs["stats"]["wall_time"] = time.perf_counter() - started
     trajectory = object.__new__(Trajectory)
     trajectory.__dict__.update(outputs)
+    if outputs["stats"]["method"] == "exact":
+        # What the exact solution needs to be evaluated at other times (Trajectory.__call__):
+        # the inputs, copied (the caller may change its arrays afterwards).
+        if isinstance(core_body, np.ndarray):
+            given = core_body.copy()
+        else:  # a Body, or N of them: as given (simulate takes them again)
+            given = list(body) if isinstance(body, list | tuple) else body
+        object.__setattr__(trajectory, "_motion", _Motion(
+            given,
+            omega.copy(),
+            None if start is None else start.copy(),
+            t0,
+            orientation,
+        ))
     return trajectory

@@ -122,8 +122,11 @@ def build_parser() -> argparse.ArgumentParser:
     spin.add_argument(
         "--points",
         type=integer(f"an integer from 2 to {MAX_POINTS}", 2, MAX_POINTS),
-        default=1001,
-        help="output times, evenly spaced from 0 to --t (default 1001)",
+        default=None,
+        help="output times, evenly spaced from 0 to --t (default: those polhode.simulate "
+        "takes for the end time --t, 48 per turn of the motion's fastest rate, at least 49 and "
+        "at most 100001: with dop853 also the end of every step, with a fixed-step method "
+        "every so many steps)",
     )
     spin.add_argument(
         "--method",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import os
 import re
 import sys
@@ -19,6 +20,7 @@ import polhode as ph
 from polhode import _core
 from polhode._formats import number
 from polhode._physics import breaks_triangle_inequality, wheel_rate
+from polhode._quantities import QUANTITIES, Quantity
 from polhode.cli._common import (
     UsageError,
     axes_words,
@@ -35,7 +37,8 @@ from polhode.invariants import max_relative_drift
 FIXED_STEP = tuple(name for name, stepping in _core.METHODS.items() if stepping == "fixed")
 
 
-#: At most this many output times (the trajectory, 8 numbers a time, is kept in memory).
+#: At most this many output times (the trajectory, every quantity, is kept in memory; the
+#: memory check of polhode.simulate says when it does not fit).
 MAX_POINTS = 10_000_000
 
 
@@ -208,19 +211,6 @@ def _rotor_report(
     return lines
 
 
-def _rotor_columns(rotors: list[ph.rotors.Rotor]) -> list[str]:
-    """The CSV's rotor columns: a wheel's rate about its axis, a damper's relative angular
-    velocity (body axes), each with its unit."""
-    columns = []
-    for name, rotor in zip(_rotor_names(rotors), rotors, strict=True):
-        stem = name.replace(" ", "")
-        if isinstance(rotor, ph.rotors.Wheel):
-            columns.append(f"{stem}_rate (rad/s)")
-        else:
-            columns += [f"{stem}_rate_{c} (rad/s)" for c in "xyz"]
-    return columns
-
-
 def principal_labels(body: Any) -> bool:
     """Whether the body's own axes are its principal axes 1, 2, 3 (moments ascending), so
     that a vector in body axes has the components 1, 2, 3 (else x, y, z): principal moments
@@ -233,26 +223,94 @@ def principal_labels(body: Any) -> bool:
 
 def omega_columns(body: Any) -> list[str]:
     """The CSV's omega columns: ``omega_1 (rad/s)``.. in principal axes, else ``omega_x``.."""
-    components = "123" if principal_labels(body) else "xyz"
-    return [f"omega_{c} (rad/s)" for c in components]
+    (omega,) = (q for q in QUANTITIES if q.name == "omega")
+    return _quantity_columns(omega, body)
+
+
+def _components(quantity: Quantity, body: Any) -> list[str]:
+    """How the CSV names the components of a quantity at one output time: a vector in body
+    axes by :func:`principal_labels` (1, 2, 3 or x, y, z), one in space axes x, y, z, a
+    scalar-last quaternion x, y, z, w; a scalar has none; any other shape its indices."""
+    shape = quantity.shape
+    if shape == ():
+        return []
+    if shape == (3,) and quantity.frame == "body":
+        return list("123" if principal_labels(body) else "xyz")
+    if shape == (3,):
+        return list("xyz")
+    if shape == (4,):
+        return list("xyzw")
+    return [str(k) for k in range(int(np.prod([d for d in shape if d != "rotors"])))]
+
+
+def _unit(quantity: Quantity) -> str:
+    return "" if quantity.unit == "1" else f" ({quantity.unit})"
+
+
+def _quantity_columns(quantity: Quantity, body: Any) -> list[str]:
+    """The CSV's columns of a quantity (not one per rotor): its name and unit, by component."""
+    components = _components(quantity, body)
+    if not components:
+        return [f"{quantity.name}{_unit(quantity)}"]
+    return [f"{quantity.name}_{c}{_unit(quantity)}" for c in components]
+
+
+def _rotor_columns(
+    quantity: Quantity, rotors: list[ph.rotors.Rotor], body: Any
+) -> list[str]:
+    """The CSV's columns of a quantity per rotor, each rotor as the report names it
+    (``wheel1``, ``damper1``): for the rotors' rates, a wheel's rate about its axis and a
+    damper's relative angular velocity (in body axes, numbered as omega's)."""
+    columns = []
+    inner = dataclasses.replace(quantity, shape=quantity.shape[1:])  # one rotor's
+    for name, rotor in zip(_rotor_names(rotors), rotors, strict=True):
+        stem = name.replace(" ", "")
+        if quantity.name != "rotor_rates":
+            columns += [f"{stem}_{c}" for c in _quantity_columns(inner, body)]
+        elif isinstance(rotor, ph.rotors.Wheel):
+            columns.append(f"{stem}_rate{_unit(quantity)}")
+        else:
+            columns += [f"{stem}_rate_{c}{_unit(quantity)}" for c in _components(inner, body)]
+    return columns
+
+
+def _rotor_values(
+    quantity: Quantity, value: np.ndarray, rotors: list[ph.rotors.Rotor]
+) -> np.ndarray:
+    """(M, columns) of :func:`_rotor_columns` from the quantity's (M, R, ...) values."""
+    parts = []
+    for k, rotor in enumerate(rotors):
+        rate = value[:, k].reshape(len(value), -1)
+        if quantity.name == "rotor_rates" and isinstance(rotor, ph.rotors.Wheel):
+            parts.append(wheel_rate(rotor, rate)[:, None])
+        else:
+            parts.append(rate)
+    return np.column_stack(parts)
+
+
+def csv_table(
+    sol: ph.Trajectory, body: Any, rotors: list[ph.rotors.Rotor]
+) -> tuple[list[str], np.ndarray]:
+    """The header and the (M, columns) numbers of ``polhode spin --csv``: the output times, then
+    every quantity of the run in the order of the core's table (``polhode._core.QUANTITIES``),
+    each with its unit: a vector by component, a quantity of the rotors by rotor."""
+    header, columns = ["t (s)"], [sol.t[:, None]]
+    for quantity in QUANTITIES:
+        value = getattr(sol, quantity.name)
+        if value is None:
+            continue
+        if "rotors" in quantity.shape:
+            header += _rotor_columns(quantity, rotors, body)
+            columns.append(_rotor_values(quantity, value, rotors))
+        else:
+            header += _quantity_columns(quantity, body)
+            columns.append(value.reshape(len(value), -1))
+    return header, np.column_stack(columns)
 
 
 def _axes_words(body: Any) -> str:
     """How the report names the body's axes: principal axes 1, 2, 3 or body axes x, y, z."""
     return "principal axes 1, 2, 3" if principal_labels(body) else "body axes x, y, z"
-
-
-def _rotor_values(sol: ph.Trajectory, rotors: list[ph.rotors.Rotor]) -> np.ndarray:
-    """(M, columns) of :func:`_rotor_columns`."""
-    assert sol.rotor_rates is not None
-    parts = []
-    for k, rotor in enumerate(rotors):
-        rate = sol.rotor_rates[:, k]
-        if isinstance(rotor, ph.rotors.Wheel):
-            parts.append(wheel_rate(rotor, rate)[:, None])
-        else:
-            parts.append(rate)
-    return np.column_stack(parts)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -273,7 +331,8 @@ def run(args: argparse.Namespace) -> int:
     if rotors:
         options["rotors"] = rotors
     omega0 = np.array(args.omega, dtype=float)
-    times = np.linspace(0.0, args.t, args.points)
+    # An end time: the output times that resolve the motion (polhode.simulate's rule).
+    times = args.t if args.points is None else np.linspace(0.0, args.t, args.points)
     # The option behind each argument an error can name (max_steps: the steps dop853 needed
     # to reach --t, which has no option of its own).
     option_of = {
@@ -393,13 +452,9 @@ def run(args: argparse.Namespace) -> int:
     if args.csv:
         with open(args.csv, "w", newline="") as handle:
             writer = csv.writer(handle)
-            header = ["t (s)", *omega_columns(body), "qx", "qy", "qz", "qw"]
-            columns = [sol.t, sol.omega, sol.quaternion]
-            if rotors:
-                header += _rotor_columns(rotors)
-                columns.append(_rotor_values(sol, rotors))
+            header, table = csv_table(sol, body, rotors)
             writer.writerow(header)
-            for row in np.column_stack(columns):
+            for row in table:
                 writer.writerow([number(x) for x in row])
         print(f"trajectory written to {args.csv}")
     return 0

@@ -28,6 +28,7 @@ from polhode.plot._poinsot import (
 from polhode.plot._poinsot import (
     PART_COLORS as PART_COLORS,
 )
+from polhode.plot.geometry import omega_space as space_rate
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -329,7 +330,7 @@ class _Drawing:
         assert traj.quaternion is not None
         self.rotations = Rotation.from_quat(traj.quaternion[indices]).as_matrix()
         self.axes_body = shape.axes
-        omega_space = np.einsum("fij,fj->fi", self.rotations, traj.omega[indices])
+        omega_space = space_rate(traj)[indices]
         momentum = traj.angular_momentum_space
         l_space = np.zeros_like(omega_space) if momentum is None else momentum[indices]
 

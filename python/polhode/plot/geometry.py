@@ -419,10 +419,22 @@ def invariable_plane_basis(
 
 
 def omega_space(traj: Trajectory) -> NDArray[np.float64]:
-    """The angular velocity in space axes, (M, 3)."""
+    """The angular velocity in space axes, (M, 3): the trajectory's ``omega_space`` (the core
+    turns omega into space at each output time), or, for a trajectory made without it, its
+    ``omega`` turned by its ``quaternion``.
+
+    Examples
+    --------
+    >>> import polhode as ph
+    >>> sol = ph.simulate([1.0, 2.0, 3.0], [0.3, 1.0, 0.2], [0.0, 1.0, 2.0])
+    >>> ph.plot.omega_space(sol) is sol.omega_space
+    True
+    """
+    traj = one_trajectory(traj, "plot.omega_space", orientation=True)
+    if traj.omega_space is not None:
+        return traj.omega_space
     from scipy.spatial.transform import Rotation
 
-    traj = one_trajectory(traj, "plot.omega_space", orientation=True)
     assert traj.quaternion is not None
     return np.asarray(Rotation.from_quat(traj.quaternion).apply(traj.omega), dtype=np.float64)
 

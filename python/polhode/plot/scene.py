@@ -54,6 +54,7 @@ from polhode.plot._poinsot import (
     plane_disc,
     unit_sphere,
 )
+from polhode.plot.geometry import omega_space as space_rate
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
@@ -339,7 +340,7 @@ class _Motion:
 
         # Every output time: rotations, omega in space, T, L in space.
         self.rotations = Rotation.from_quat(np.asarray(trajectory.quaternion)).as_matrix()
-        self.omega_space = np.einsum("mij,mj->mi", self.rotations, omega_body)
+        self.omega_space = np.asarray(space_rate(trajectory), dtype=np.float64)
         momentum_body = omega_body @ tensor.T
         self.energy = 0.5 * np.einsum("mi,mi->m", omega_body, momentum_body)
         momentum = np.einsum("mij,mj->mi", self.rotations, momentum_body)

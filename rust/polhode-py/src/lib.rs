@@ -10,6 +10,7 @@ mod frames;
 mod mass;
 mod motion;
 mod rotors;
+mod sampling;
 mod torque;
 mod watch;
 
@@ -29,6 +30,9 @@ mod _core {
 
     #[pymodule_export]
     use crate::rotors::check_rotor;
+
+    #[pymodule_export]
+    use crate::sampling::fastest_rate;
 
     #[pymodule_export]
     use crate::torque::check_torque;

@@ -36,7 +36,7 @@ use crate::watch::{run_on_pool, Watch};
 /// times that Ctrl-C could not interrupt for 1e7).
 /// A contiguous array is borrowed as it is, not copied (each copy an allocation of a small
 /// call).
-fn dense<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> (&'a [usize], Cow<'a, [f64]>) {
+pub(crate) fn dense<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> (&'a [usize], Cow<'a, [f64]>) {
     let data = match a.as_slice() {
         Ok(slice) => Cow::Borrowed(slice),
         Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
@@ -44,7 +44,7 @@ fn dense<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> (&'a [usize], Cow<'a, [f64]>
     (a.shape(), data)
 }
 
-fn rows3(data: &[f64]) -> Vec<Vector3<f64>> {
+pub(crate) fn rows3(data: &[f64]) -> Vec<Vector3<f64>> {
     data.chunks_exact(3)
         .map(Vector3::from_column_slice)
         .collect()
@@ -53,7 +53,7 @@ fn rows3(data: &[f64]) -> Vec<Vector3<f64>> {
 /// The bodies: `omega0`'s shape decides. (3,) is one body: principal moments (3,), a tensor
 /// (3, 3) or mass properties. (N, 3) is N bodies, for every N: principal moments (N, 3), N
 /// mass properties, or one body ((3,) moments or mass properties) shared by all.
-fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
+pub(crate) fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
     if let Ok(props) = body.cast::<PyMassProperties>() {
         return Ok(vec![Body::MassProperties(props.get().0)]);
     }
@@ -106,7 +106,7 @@ fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<Body>> {
 
 /// Initial orientations: one (4,) quaternion (x, y, z, w) or (3, 3) matrix shared by all, or
 /// (K, 4) / (K, 3, 3) for K = 1 or N bodies.
-fn orientations(
+pub(crate) fn orientations(
     orientation0: Option<PyReadonlyArrayDyn<'_, f64>>,
 ) -> PyResult<Vec<UnitQuaternion<f64>>> {
     let Some(array) = orientation0 else {
@@ -162,11 +162,15 @@ fn orientations(
 /// A single body (or a run with a Python torque function) runs on the calling thread, which
 /// polls at the run's looks at its monitor: a short call never attaches the GIL, nor hands
 /// work to another thread. A batch runs on the rayon pool (see [`run_on_pool`]).
+///
+/// `every_step=True` (one body, `dop853`) reports the motion at the end of every accepted step
+/// too, in time order with the output times (`polhode::simulation::simulate_every_step`): `t`
+/// in the result is then a new array of those times.
 #[pyfunction]
 #[pyo3(signature = (
     body, omega0, t, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
     rtol=1e-10, atol=None, torque=None, orientation=true, max_steps=100_000_000, progress=None,
-    rotors=None
+    rotors=None, every_step=false
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
@@ -186,6 +190,7 @@ pub fn simulate<'py>(
     max_steps: i64,
     progress: Option<Bound<'py, PyAny>>,
     rotors: Option<Vec<Bound<'py, PyAny>>>,
+    every_step: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (omega_shape, omega_data) = dense(&omega0);
     let n = match omega_shape {
@@ -248,15 +253,33 @@ pub fn simulate<'py>(
         let watch = Arc::clone(&watch);
         move |monitor| watch.poll(monitor, false)
     });
+    if every_step && (n.is_some() || bodies.len() != 1) {
+        return Err(PyTypeError::new_err(
+            "every_step=True reports the steps of one body: give `omega0` of shape (3,).",
+        ));
+    }
     let work = || {
-        polhode::simulation::simulate(
-            &run,
-            &bodies,
-            &omega0,
-            &orientation0,
-            &times,
-            Some(&monitor),
-        )
+        if every_step {
+            polhode::simulation::simulate_every_step(
+                &run,
+                &bodies[0],
+                &omega0[0],
+                &orientation0[0],
+                &times,
+                Some(&monitor),
+            )
+            .map(|(times, outputs)| (Some(times), outputs))
+        } else {
+            polhode::simulation::simulate(
+                &run,
+                &bodies,
+                &omega0,
+                &orientation0,
+                &times,
+                Some(&monitor),
+            )
+            .map(|outputs| (None, outputs))
+        }
     };
     let result = py.detach(|| {
         if inline {
@@ -271,13 +294,19 @@ pub fn simulate<'py>(
     if let Some(error) = raised.lock().ok().and_then(|mut slot| slot.take()) {
         return Err(error);
     }
-    let outputs = result
+    let (stepped, outputs) = result
         .unwrap_or_else(|| unreachable!("a panic of the batch is re-raised by its scope"))
         .map_err(CoreError)?;
     if let Some(progress) = &watch.progress {
         progress.call1(py, (1.0,))?;
     }
-    to_dict(py, outputs, n.is_none(), run.method.name(), t.as_any())
+    match stepped {
+        Some(times) => {
+            let times = times.into_pyarray(py);
+            to_dict(py, outputs, n.is_none(), run.method.name(), times.as_any())
+        }
+        None => to_dict(py, outputs, n.is_none(), run.method.name(), t.as_any()),
+    }
 }
 
 /// Checks one body, its initial angular velocity and its rotors as `simulate` checks them, with

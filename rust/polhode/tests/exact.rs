@@ -2782,3 +2782,35 @@ fn huge_times_cost_nothing_and_stay_finite() {
         other => panic!("expected an error for t, got {other:?}"),
     }
 }
+
+#[test]
+fn the_state_at_t0_is_the_initial_state_bit_for_bit() {
+    // Every regime (an elliptic motion about either extreme axis, the separatrix, a symmetric
+    // top, a steady spin, a sphere, rest), moments in any order: at t = 0 the closed form gives
+    // back omega0 and orientation0 themselves, not their reconstruction from the invariants
+    // (which was off by an ulp or two: omega0 = (0.01, 1, 5) came back as
+    // (0.009999999999999997, 0.9999999999999996, 5)).
+    let q0 = UnitQuaternion::from_euler_angles(0.3, -0.2, 1.1);
+    let cases = [
+        ([1.0, 2.0, 3.0], [0.01, 1.0, 5.0]),
+        ([1.0, 2.0, 3.0], [0.3, 1.0, 0.2]),
+        ([3.0, 1.0, 2.0], [1.0, 0.01, -0.02]),
+        ([1.0, 2.0, 3.0], [1.0, 0.0, 1.0]), // L^2 = 2 T I2: the separatrix
+        ([2.0, 2.0, 5.0], [0.3, -0.4, 1.0]),
+        ([1.0, 2.0, 3.0], [0.0, 0.0, 2.5]),
+        ([2.0, 2.0, 2.0], [0.1, 0.2, 0.3]),
+        ([1.0, 2.0, 3.0], [0.0, 0.0, 0.0]),
+    ];
+    for (moments, omega0) in cases {
+        let omega0 = Vector3::from(omega0);
+        let free = FreeRotation::new(Vector3::from(moments), omega0, q0).unwrap();
+        let (w, q) = free.try_state(0.0).unwrap();
+        assert_eq!(w, omega0, "{moments:?} {omega0:?}");
+        assert_eq!(q.coords, q0.coords, "{moments:?} {omega0:?}");
+        assert_eq!(free.try_omega(0.0).unwrap(), omega0);
+        assert_eq!(free.try_omega(-0.0).unwrap(), omega0);
+        // And the motion away from t = 0 is the closed form's, continuous with it.
+        let (w1, _) = free.try_state(1e-9).unwrap();
+        assert!((w1 - omega0).norm() <= 1e-7 * omega0.norm().max(1e-300));
+    }
+}

@@ -765,3 +765,182 @@ fn a_lane_block_reports_an_orientation_that_blows_up_as_alone() {
         assert_eq!(&q[i * 12..(i + 1) * 12], one.column("quaternion").unwrap());
     }
 }
+
+/// A body by `dop853` reported at every accepted step: its times are the output times and the
+/// ends of its steps, in increasing order; its outputs at any of them are `simulate`'s at the
+/// same times bit for bit (the steps do not depend on the output times), for a rigid body, a
+/// torque and rotors, in principal axes and in a body's own axes.
+#[test]
+fn every_step_reports_the_steps_of_the_run_to_the_last_time() {
+    use polhode::dynamics::{MotorTorque, RotorSpec};
+    use polhode::simulation::simulate_every_step;
+    let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1);
+    let tensor = r.matrix() * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.5)) * r.transpose();
+    let grid: Vec<f64> = (0..=8).map(|k| 0.75 * f64::from(k)).collect();
+    let q0 = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3);
+    let w0 = Vector3::new(0.2, 1.0, -0.3);
+    let mut runs = Vec::new();
+    for body in [
+        Body::Moments(Vector3::new(1.0, 2.0, 3.0)),
+        Body::Inertia(tensor),
+    ] {
+        let plain = Simulation::new(Method::Dop853(Dop853Options::with_rtol(1e-9)));
+        let mut torqued = plain.clone();
+        torqued.torque = Some(TorqueSpec::BodyFixed(Vector3::new(0.0, 0.05, 0.1)));
+        let mut rotors = plain.clone();
+        rotors.rotors = vec![
+            RotorSpec::Wheel {
+                axis: Vector3::z(),
+                inertia: 0.1,
+                rate0: 2.0,
+                torque: MotorTorque::Constant(0.0),
+            },
+            RotorSpec::SphericalDamper {
+                inertia: 0.05,
+                damping: 0.02,
+            },
+        ];
+        for run in [plain, torqued, rotors] {
+            runs.push((body, run));
+        }
+    }
+    for (body, run) in runs {
+        let (times, out) = simulate_every_step(&run, &body, &w0, &q0, &grid, None).unwrap();
+        assert!(times.windows(2).all(|w| w[0] < w[1]));
+        assert!(grid.iter().all(|g| times.contains(g)));
+        let steps = out.stats[0].steps as usize;
+        // Each step's end is reported once; the last step ends at the last output time.
+        assert_eq!(times.len(), grid.len() + steps - 1);
+        let again = simulate(&run, &[body], &[w0], &[q0], &times, None).unwrap();
+        assert_eq!(again.columns, out.columns);
+        assert_eq!(again.stats[0].steps, out.stats[0].steps);
+        let at_grid = simulate(&run, &[body], &[w0], &[q0], &grid, None).unwrap();
+        for (quantity, data) in &at_grid.columns {
+            let width = quantity.width(out.rotors);
+            let all = out.column(quantity.name()).unwrap();
+            for (j, g) in grid.iter().enumerate() {
+                let k = times.iter().position(|t| t == g).unwrap();
+                assert_eq!(
+                    &all[k * width..(k + 1) * width],
+                    &data[j * width..(j + 1) * width]
+                );
+            }
+        }
+    }
+    // Another method has no accepted steps to report.
+    let error = simulate_every_step(
+        &Simulation::new(Method::Rk4 { dt: 0.01 }),
+        &Body::Moments(Vector3::new(1.0, 2.0, 3.0)),
+        &w0,
+        &q0,
+        &grid,
+        None,
+    )
+    .unwrap_err();
+    assert_eq!(error.argument(), Some("method"));
+}
+
+/// The fastest rate of a motion: for a rigid body the largest of 2 pi / P (omega's period in
+/// the body), the precession about L and the largest |omega| along the motion (from the
+/// exact solution at many times); with rotors |L| / I_min; with a torque from rest the spin it
+/// adds over the run; over a batch the fastest body's.
+#[test]
+fn the_fastest_rate_is_that_of_the_motion() {
+    use polhode::simulation::{fastest_rate, Pace};
+    let q0 = [UnitQuaternion::identity()];
+    let exact = Simulation::new(Method::Exact);
+    let cases = [
+        (Vector3::new(1.0, 2.0, 3.0), Vector3::new(0.01, 1.0, 0.01)),
+        (Vector3::new(1.0, 2.0, 3.0), Vector3::new(0.3, 0.2, 1.0)),
+        (Vector3::new(3.0, 1.0, 2.0), Vector3::new(0.2, 1.0, -0.3)),
+        (Vector3::new(2.0, 2.0, 5.0), Vector3::new(0.3, -0.4, 1.0)),
+        (Vector3::new(0.01, 1.0, 1.0), Vector3::new(0.0, 0.1, 1.0)),
+    ];
+    for (moments, omega) in cases {
+        let rate = fastest_rate(&exact, &[Body::Moments(moments)], &[omega], &q0, 10.0).unwrap();
+        let free = FreeRotation::new(moments, omega, UnitQuaternion::identity()).unwrap();
+        let mut spin = 0.0_f64;
+        let period = free.period();
+        let span = period.unwrap_or(10.0);
+        for k in 0..=20_000 {
+            spin = spin.max(free.omega(span * f64::from(k) / 20_000.0).norm());
+        }
+        let expected = [
+            period.map_or(0.0, |p| std::f64::consts::TAU / p),
+            free.precession_rate_space().map_or(0.0, f64::abs),
+        ]
+        .into_iter()
+        .fold(spin, f64::max);
+        assert!(
+            (rate.rate - expected).abs() <= 1e-6 * expected,
+            "{moments:?} {omega:?}: {rate:?} against {expected}"
+        );
+        assert_ne!(rate.pace, Pace::Rest);
+    }
+    // A steady spin: its rate, or the precession of the motions about it (the limit the exact
+    // solution gives, |w| (1 + sqrt((I3 - I1)(I3 - I2) / (I1 I2))) = 4 here); about the
+    // smallest axis of a body whose other two moments are close, the spin.
+    let steady = fastest_rate(
+        &exact,
+        &[Body::Moments(Vector3::new(1.0, 2.0, 3.0))],
+        &[Vector3::new(0.0, 0.0, 2.0)],
+        &q0,
+        1.0,
+    )
+    .unwrap();
+    assert_eq!((steady.rate, steady.pace), (4.0, Pace::Precession));
+    let steady = fastest_rate(
+        &exact,
+        &[Body::Moments(Vector3::new(1.0, 2.0, 2.001))],
+        &[Vector3::new(2.0, 0.0, 0.0)],
+        &q0,
+        1.0,
+    )
+    .unwrap();
+    assert_eq!((steady.rate, steady.pace), (2.0, Pace::Spin));
+    let rest = fastest_rate(
+        &exact,
+        &[Body::Moments(Vector3::new(1.0, 2.0, 3.0))],
+        &[Vector3::zeros()],
+        &q0,
+        1.0,
+    )
+    .unwrap();
+    assert_eq!((rest.rate, rest.pace), (0.0, Pace::Rest));
+    // A batch: the fastest body, by index.
+    let (bodies, omega) = bodies();
+    let batch = fastest_rate(&exact, &bodies, &omega, &q0, 1.0).unwrap();
+    let each: Vec<f64> = (0..4)
+        .map(|i| {
+            fastest_rate(&exact, &bodies[i..=i], &omega[i..=i], &q0, 1.0)
+                .unwrap()
+                .rate
+        })
+        .collect();
+    let fastest = (0..4).fold(0, |a, i| if each[i] > each[a] { i } else { a });
+    assert_eq!((batch.rate, batch.body), (each[fastest], fastest));
+    // A torque on a body at rest: the spin it adds over the run, |I^-1 tau| (t_end - t0).
+    let mut torqued = Simulation::new(Method::Dop853(Dop853Options::default()));
+    torqued.torque = Some(TorqueSpec::BodyFixed(Vector3::new(0.0, 0.0, 0.3)));
+    let body = [Body::Moments(Vector3::new(1.0, 2.0, 3.0))];
+    let spun = fastest_rate(&torqued, &body, &[Vector3::zeros()], &q0, 4.0).unwrap();
+    assert_eq!(spun.pace, Pace::Torque);
+    assert!((spun.rate - 0.1 * 4.0).abs() <= 1e-15);
+    // Rotors: |L| / I_min of the whole, a fast wheel's momentum included.
+    let mut rotors = Simulation::new(Method::Dop853(Dop853Options::default()));
+    rotors.rotors = vec![polhode::dynamics::RotorSpec::Wheel {
+        axis: Vector3::z(),
+        inertia: 0.1,
+        rate0: 100.0,
+        torque: polhode::dynamics::MotorTorque::Constant(0.0),
+    }];
+    let wheel = fastest_rate(&rotors, &body, &[Vector3::new(0.0, 0.0, 0.1)], &q0, 1.0).unwrap();
+    assert_eq!(wheel.pace, Pace::Rotors);
+    assert!((wheel.rate - (3.0 * 0.1 + 0.1 * 100.0)).abs() <= 1e-12);
+    // The errors are simulate's: a bad body, in a batch by its index.
+    let mut bad = bodies.clone();
+    bad[2] = Body::Moments(Vector3::new(1.0, -2.0, 3.0));
+    let error = fastest_rate(&exact, &bad, &omega, &q0, 1.0).unwrap_err();
+    let expected = simulate(&exact, &bad, &omega, &q0, &[0.0, 1.0], None).unwrap_err();
+    assert_eq!(error.to_string(), expected.to_string());
+}

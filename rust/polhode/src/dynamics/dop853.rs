@@ -295,9 +295,33 @@ fn initial_step<S: System<N>, const N: usize>(
     Ok((100.0 * h).min(h1).min(hmax))
 }
 
-/// Integrates from `(t0, y0)` to `t_end` and calls `out(k, y(times[k]))` for each output time
-/// (`times` non-decreasing, within `[t0, t_end]`); returns the final state and the next step
-/// size. `[t0, t_end]` must be free of discontinuities of the torque: the system is evaluated
+/// The error of a solve that reached `max_steps` at `t` on its way to `t_end`.
+#[cold]
+fn too_many_steps(max_steps: u64, t_end: f64, t: f64) -> Error {
+    Error::NoConvergence {
+        method: "dop853".into(),
+        name: "max_steps".into(),
+        reason: format!(
+            "more than max_steps = {max_steps} steps were needed to reach t = {} (at t = {}).",
+            Short(t_end),
+            Short(t)
+        ),
+    }
+}
+
+/// Where a solve's state goes to [`solve`]'s `out`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Stamp {
+    /// At output time `times[k]`.
+    Output(usize),
+    /// At the end of an accepted step, at this time (after the output times it covers).
+    Step(f64),
+}
+
+/// Integrates from `(t0, y0)` to `t_end` and calls `out(Stamp::Output(k), y(times[k]))` for
+/// each output time (`times` non-decreasing, within `[t0, t_end]`) and
+/// `out(Stamp::Step(t), y(t))` at the end of each accepted step; returns the final state and
+/// the next step size. `[t0, t_end]` must be free of discontinuities of the torque: the system is evaluated
 /// for the segment `[t0, t_end]`. `renormalize(y, f)` is applied after each accepted step to
 /// the new state and its derivative.
 #[allow(clippy::too_many_arguments)]
@@ -309,12 +333,12 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
     times: &[f64],
     settings: &Settings<N>,
     renormalize: impl Fn(&mut SVector<f64, N>, &mut SVector<f64, N>),
-    mut out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
+    mut out: impl FnMut(Stamp, &SVector<f64, N>) -> Result<()>,
     stats: &mut Stats,
 ) -> Result<(SVector<f64, N>, Option<f64>)> {
     let mut next = 0;
     while next < times.len() && times[next] <= t0 {
-        out(next, y0)?;
+        out(Stamp::Output(next), y0)?;
         next += 1;
     }
     if t_end <= t0 {
@@ -350,16 +374,7 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
     let mut rejected = false;
     loop {
         if stats.steps + stats.rejected_steps >= settings.max_steps {
-            return Err(Error::NoConvergence {
-                method: "dop853".into(),
-                name: "max_steps".into(),
-                reason: format!(
-                    "more than max_steps = {} steps were needed to reach t = {} (at t = {}).",
-                    settings.max_steps,
-                    Short(t_end),
-                    Short(t)
-                ),
-            });
+            return Err(too_many_steps(settings.max_steps, t_end, t));
         }
         let h_before_clip = h;
         let last = tau + 1.01 * h >= span;
@@ -399,7 +414,7 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
                 let mut dense = None;
                 while next < times.len() && since(next) <= tau_new {
                     if since(next) == tau_new {
-                        out(next, &y_new)?;
+                        out(Stamp::Output(next), &y_new)?;
                     } else {
                         if dense.is_none() {
                             dense = Some(Dense::new(
@@ -415,12 +430,14 @@ pub(crate) fn solve<S: System<N>, const N: usize>(
                             )?);
                         }
                         if let Some(d) = &dense {
-                            out(next, &d.eval(since(next)))?;
+                            out(Stamp::Output(next), &d.eval(since(next)))?;
                         }
                     }
                     next += 1;
                 }
             }
+            // The step itself, after the output times it covers.
+            out(Stamp::Step(t_new), &y_new)?;
             let mut y_acc = y_new;
             let mut f_acc = k[12];
             renormalize(&mut y_acc, &mut f_acc);

@@ -4,7 +4,7 @@
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
-use super::dop853::Tolerance;
+use super::dop853::{Stamp, Tolerance};
 use super::loops::{
     breaks, check_omega_output, dop853_segments, fixed_loop, segment_ends, unit_output,
     ScaledSystem,
@@ -38,10 +38,17 @@ pub struct Trajectory {
 pub(crate) type Sink<'a> =
     dyn FnMut(usize, &Vector3<f64>, Option<&UnitQuaternion<f64>>) -> Result<()> + 'a;
 
+/// Where a rigid body's `dop853` run sends its state at the end of each accepted step (see
+/// [`run_body_with_steps`]): `steps(t, omega, q)`, as a [`Sink`] gets the output times.
+pub(crate) type StepSink<'a> =
+    dyn FnMut(f64, &Vector3<f64>, Option<&UnitQuaternion<f64>>) -> Result<()> + 'a;
+
 /// A run's outputs on their way to its [`Sink`]: the angular velocity checked finite, the raw
 /// quaternion normalised and checked (only if the orientation is returned).
 struct Checked<'s, 'a> {
     sink: &'s mut Sink<'a>,
+    /// Where the state at each accepted step of `dop853` goes, if anywhere.
+    steps: Option<&'s mut StepSink<'a>>,
     times: &'s [f64],
     with_orientation: bool,
     /// The argument an error names when the solution blows up: `dt` for the fixed-step
@@ -83,6 +90,23 @@ impl Checked<'_, '_> {
             self.push(k, &w, None)
         }
     }
+
+    /// The state at the end of an accepted step at `t`, to the step sink if there is one,
+    /// checked as an output is.
+    #[inline]
+    fn push_step<const N: usize>(&mut self, t: f64, y: &SVector<f64, N>, scale: f64) -> Result<()> {
+        let Some(steps) = self.steps.as_mut() else {
+            return Ok(());
+        };
+        let w = Vector3::new(y[0], y[1], y[2]) * scale;
+        check_omega_output(self.fixed_step, t, &w)?;
+        if N == 7 && self.with_orientation {
+            let q = unit_output(self.fixed_step, t, &Vector4::new(y[3], y[4], y[5], y[6]))?;
+            steps(t, &w, Some(&q))
+        } else {
+            steps(t, &w, None)
+        }
+    }
 }
 
 /// The fixed-step loop of a rigid body's `stepper` from `state0`.
@@ -97,7 +121,14 @@ fn fixed<S: BodyStepper>(
 ) -> Result<Stats> {
     let y0 = stepper.vars(state0);
     fixed_loop(stepper, dt, y0, times, breaks, options, |k, stepper, y| {
-        out.push(k, &stepper.omega(y), Some(&y.1))
+        // At t0 (no step taken) omega0 itself: a stepper's variables (the splitting's
+        // I omega) give it back only to rounding.
+        let omega = if times[k] == options.t0 {
+            stepper.omega_of(state0)
+        } else {
+            stepper.omega(y)
+        };
+        out.push(k, &omega, Some(&y.1))
     })
 }
 
@@ -191,7 +222,10 @@ fn run_dop853<S: System<N>, const N: usize>(
         tol,
         &ends,
         renormalize,
-        |k, y| out.push_state(k, y, scale),
+        |stamp, y| match stamp {
+            Stamp::Output(k) => out.push_state(k, y, scale),
+            Stamp::Step(t) => out.push_step(t, y, scale),
+        },
     )
 }
 
@@ -404,6 +438,11 @@ impl<S: BodyStepper> BodyStepper for Scaled<S> {
     fn omega(&self, y: &Vars) -> Vector3<f64> {
         self.inner.omega(y) * self.scale
     }
+
+    fn omega_of(&self, state: &State) -> Vector3<f64> {
+        // Back from units of the scale, a power of two: the omega given, exactly.
+        self.inner.omega_of(state) * self.scale
+    }
 }
 
 /// Integrates Euler's equations (with the orientation if `options.with_orientation`) from
@@ -411,7 +450,7 @@ impl<S: BodyStepper> BodyStepper for Scaled<S> {
 ///
 /// `moments`: principal moments (any order, finite, `> 0`). `times`: output times (named `t`
 /// in errors), finite, non-decreasing and `>= t0` (an output time equal to `t0` returns the
-/// initial state, to round-off for `Exact`). The fixed-step methods take
+/// initial state: omega as given, the orientation normalized). The fixed-step methods take
 /// `n = ceil((t_k - t_{k-1}) / dt)` equal substeps between successive output times, so every
 /// output time is hit exactly and no step exceeds `dt`; `Dop853` steps freely and interpolates
 /// (7th-order dense output); `Exact` evaluates the closed form at each output time.
@@ -512,6 +551,20 @@ pub(crate) fn run_body(
     options: &Options,
     sink: &mut Sink,
 ) -> Result<Stats> {
+    run_body_with_steps(method, body, state0, times, options, sink, None)
+}
+
+/// [`run_body`], and for `dop853` the state at the end of each accepted step sent to `steps`
+/// if given (in time order with the output times: a step's after those it covers).
+pub(crate) fn run_body_with_steps<'a>(
+    method: &Method,
+    body: &Moments,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    sink: &mut Sink<'a>,
+    steps: Option<&mut StepSink<'a>>,
+) -> Result<Stats> {
     let state0 = &start(method, state0, times, options)?;
     // The orientation is integrated if returned or if the torque depends on it.
     let orientation =
@@ -522,6 +575,7 @@ pub(crate) fn run_body(
     );
     let out = &mut Checked {
         sink,
+        steps,
         times,
         with_orientation: options.with_orientation,
         fixed_step,

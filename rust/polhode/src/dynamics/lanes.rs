@@ -1006,8 +1006,14 @@ fn run_lanes<S: LaneStepper>(
         }
         prev = t;
         let Some(k) = k else { return Ok(()) };
-        // The lanes as arrays once (a lane read from a vector's image reloads the vector).
-        let omega = arrays3(&stepper.omega(&y));
+        // The lanes as arrays once (a lane read from a vector's image reloads the vector). At
+        // t0 (no step taken) omega0 itself: a stepper's variables (the splitting's I omega)
+        // give it back only to rounding.
+        let omega = if times[k] == options.t0 {
+            arrays3(&y0.0)
+        } else {
+            arrays3(&stepper.omega(&y))
+        };
         // `driver::unit_output`'s `q / |q|`, in every lane at once.
         let n = norm4(&y.1);
         let unit = arrays4(&[y.1[0] / n, y.1[1] / n, y.1[2] / n, y.1[3] / n]);

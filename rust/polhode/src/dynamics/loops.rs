@@ -5,7 +5,7 @@
 
 use nalgebra::{Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
-use super::dop853::{self, Settings, Tolerance};
+use super::dop853::{self, Settings, Stamp, Tolerance};
 use super::method::{Dop853Options, Options, Stats};
 use super::stepper::Stepper;
 use super::system::System;
@@ -172,8 +172,9 @@ impl<S: System<N>, const N: usize> System<N> for Watched<'_, '_, S> {
 
 /// `dop853` from `options.t0` over the output `times`, one solve per segment ending at each
 /// of `ends` (see [`segment_ends`]), restarting the method there with the last step size;
-/// `out(k, y)` gets the state at `times[k]`. The one adaptive loop of every system (a rigid
-/// body, a gyrostat), reporting each evaluation to the monitor.
+/// `out(Stamp::Output(k), y)` gets the state at `times[k]`, `out(Stamp::Step(t), y)` the state
+/// at the end of each accepted step (after the output times it covers). The one adaptive
+/// loop of every system (a rigid body, a gyrostat), reporting each evaluation to the monitor.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn dop853_segments<S: System<N>, const N: usize>(
     sys: &S,
@@ -184,7 +185,7 @@ pub(crate) fn dop853_segments<S: System<N>, const N: usize>(
     tol: Tolerance<N>,
     ends: &[f64],
     renormalize: impl Fn(&mut SVector<f64, N>, &mut SVector<f64, N>) + Copy,
-    mut out: impl FnMut(usize, &SVector<f64, N>) -> Result<()>,
+    mut out: impl FnMut(Stamp, &SVector<f64, N>) -> Result<()>,
 ) -> Result<Stats> {
     let mut settings = Settings {
         tol,
@@ -209,7 +210,10 @@ pub(crate) fn dop853_segments<S: System<N>, const N: usize>(
             &times[first..last],
             &settings,
             renormalize,
-            |k, y| out(first + k, y),
+            |stamp, y| match stamp {
+                Stamp::Output(k) => out(Stamp::Output(first + k), y),
+                step => out(step, y),
+            },
             &mut stats,
         )?;
         settings.first_step = h;

@@ -50,15 +50,18 @@ mod system;
 pub mod torque;
 
 pub use dop853::{dop853_step, dop853_step_omega, dop853_step_omega_torqued, dop853_step_torqued};
-pub(crate) use driver::{exact_range, omega_scale, run_body, start, start_state};
+pub(crate) use driver::{
+    exact_range, omega_scale, run_body, run_body_with_steps, start, start_state,
+};
 pub use driver::{integrate, integrate_body, Trajectory};
+pub(crate) use loops::substeps;
 pub(crate) use method::{check_method, check_times};
 pub use method::{Dop853Options, Method, MethodSettings, Options, Stats, Stepping, METHODS};
 pub use midpoint::{
     midpoint_step, midpoint_step_omega, midpoint_step_omega_torqued, midpoint_step_torqued,
 };
 pub use rk4::{rk4_step, rk4_step_omega, rk4_step_omega_torqued, rk4_step_torqued};
-pub(crate) use rotors::{check_rotor_method, run_gyrostat};
+pub(crate) use rotors::{check_rotor_method, run_gyrostat, run_gyrostat_with_steps};
 pub use rotors::{
     integrate_gyrostat, Gyrostat, GyrostatTrajectory, MotorFn, MotorTorque, RotorFields, RotorSpec,
     MAX_ROTOR_VARIABLES,

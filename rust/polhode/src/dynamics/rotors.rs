@@ -34,7 +34,7 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4};
 
-use super::dop853::Tolerance;
+use super::dop853::{Stamp, Tolerance};
 use super::driver::omega_scale;
 use super::loops::{breaks, dop853_segments, fixed_loop, segment_ends, ScaledSystem};
 use super::method::{check_method, check_times, Method, Options, Stats};
@@ -666,6 +666,11 @@ pub fn integrate_gyrostat(
 pub(crate) type GyrostatSink<'a> =
     dyn FnMut(usize, &Vector3<f64>, &UnitQuaternion<f64>, &[f64]) -> Result<()> + 'a;
 
+/// Where a gyrostat's `dop853` run sends its state at the end of each accepted step (see
+/// [`run_gyrostat_with_steps`]): `steps(t, omega, q, variables)`.
+pub(crate) type GyrostatStepSink<'a> =
+    dyn FnMut(f64, &Vector3<f64>, &UnitQuaternion<f64>, &[f64]) -> Result<()> + 'a;
+
 /// [`integrate_gyrostat`] with its outputs sent to `sink` as they come, rather than collected.
 pub(crate) fn run_gyrostat(
     method: &Method,
@@ -675,6 +680,20 @@ pub(crate) fn run_gyrostat(
     options: &Options,
     sink: &mut GyrostatSink,
 ) -> Result<Stats> {
+    run_gyrostat_with_steps(method, gyrostat, state0, times, options, sink, None)
+}
+
+/// [`run_gyrostat`], and for `dop853` the state at the end of each accepted step sent to
+/// `steps` if given (in time order with the output times: a step's after those it covers).
+pub(crate) fn run_gyrostat_with_steps<'a>(
+    method: &Method,
+    gyrostat: &Gyrostat,
+    state0: &State,
+    times: &[f64],
+    options: &Options,
+    sink: &mut GyrostatSink<'a>,
+    steps: Option<&mut GyrostatStepSink<'a>>,
+) -> Result<Stats> {
     if let Some(monitor) = options.monitor {
         monitor.check()?;
     }
@@ -683,10 +702,10 @@ pub(crate) fn run_gyrostat(
     state0.check_finite("state0")?;
     check_times(times, options.t0)?;
     match gyrostat.variables {
-        0..=3 => run::<10>(method, gyrostat, state0, times, options, sink),
-        4..=6 => run::<13>(method, gyrostat, state0, times, options, sink),
-        7..=12 => run::<19>(method, gyrostat, state0, times, options, sink),
-        _ => run::<31>(method, gyrostat, state0, times, options, sink),
+        0..=3 => run::<10>(method, gyrostat, state0, times, options, sink, steps),
+        4..=6 => run::<13>(method, gyrostat, state0, times, options, sink, steps),
+        7..=12 => run::<19>(method, gyrostat, state0, times, options, sink, steps),
+        _ => run::<31>(method, gyrostat, state0, times, options, sink, steps),
     }
 }
 
@@ -712,13 +731,14 @@ pub(crate) fn check_rotor_method(method: &Method) -> Result<()> {
     })
 }
 
-fn run<const N: usize>(
+fn run<'a, const N: usize>(
     method: &Method,
     gyrostat: &Gyrostat,
     state0: &State,
     times: &[f64],
     options: &Options,
-    sink: &mut GyrostatSink,
+    sink: &mut GyrostatSink<'a>,
+    mut steps: Option<&mut GyrostatStepSink<'a>>,
 ) -> Result<Stats> {
     let k = gyrostat.variables;
     let mut y0 = SVector::<f64, N>::zeros();
@@ -749,8 +769,8 @@ fn run<const N: usize>(
     for (i, v) in vars0.into_iter().enumerate() {
         y0[7 + i] = v / scale;
     }
-    let mut push = |j: usize, y: &SVector<f64, N>| -> Result<()> {
-        let t = times[j];
+    // The state at `t` in the body's units, checked finite: (w, q, variables).
+    let unpack = |t: f64, y: &SVector<f64, N>| -> Result<SVector<f64, N>> {
         let mut y = *y;
         for i in (0..3).chain(7..7 + k) {
             y[i] *= scale;
@@ -769,11 +789,30 @@ fn run<const N: usize>(
                 value: *v,
             });
         }
+        Ok(y)
+    };
+    let unit = |y: &SVector<f64, N>| {
         let q = Vector4::new(y[3], y[4], y[5], y[6]);
+        UnitQuaternion::new_unchecked(Quaternion::from(q / q.norm()))
+    };
+    let mut push = |j: usize, y: &SVector<f64, N>| -> Result<()> {
+        let y = unpack(times[j], y)?;
         sink(
             j,
             &Vector3::new(y[0], y[1], y[2]),
-            &UnitQuaternion::new_unchecked(Quaternion::from(q / q.norm())),
+            &unit(&y),
+            &y.as_slice()[7..7 + k],
+        )
+    };
+    let mut push_step = |t: f64, y: &SVector<f64, N>| -> Result<()> {
+        let Some(steps) = steps.as_mut() else {
+            return Ok(());
+        };
+        let y = unpack(t, y)?;
+        steps(
+            t,
+            &Vector3::new(y[0], y[1], y[2]),
+            &unit(&y),
             &y.as_slice()[7..7 + k],
         )
     };
@@ -805,7 +844,10 @@ fn run<const N: usize>(
                 tolerance,
                 &ends,
                 renormalize,
-                push,
+                |stamp, y| match stamp {
+                    Stamp::Output(j) => push(j, y),
+                    Stamp::Step(t) => push_step(t, y),
+                },
             )
         }
         _ => Err(check_rotor_method(method).unwrap_err()),

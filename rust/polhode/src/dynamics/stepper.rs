@@ -73,4 +73,11 @@ pub(crate) trait BodyStepper: Stepper<Vars = Vars> {
     fn omega(&self, y: &Vars) -> Vector3<f64> {
         y.0
     }
+
+    /// The angular velocity reported for `state` itself (an output at t0, before any step):
+    /// by default its omega, exactly as given.
+    #[inline(always)]
+    fn omega_of(&self, state: &State) -> Vector3<f64> {
+        state.omega
+    }
 }

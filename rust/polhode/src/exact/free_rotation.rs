@@ -744,13 +744,19 @@ impl FreeRotation {
         Ok(())
     }
 
-    /// Body angular velocity at time `t`.
+    /// Body angular velocity at time `t`: at `t = 0`, `omega0` itself.
     ///
     /// # Errors
     /// [`Error::NonFinite`] for a non-finite `t`, [`Error::InvalidArgument`] for
     /// `|t| >` [`FreeRotation::max_time`].
     pub fn try_omega(&self, t: f64) -> Result<Vector3<f64>> {
         self.check_time(t)?;
+        if t == 0.0 {
+            // The initial state itself: the closed form rebuilds it from the invariants and
+            // the phase, each rounded (omega0 = (0.01, 1, 5) with moments (1, 2, 3) came back
+            // as (0.009999999999999997, 0.9999999999999996, 5)).
+            return Ok(self.omega0);
+        }
         Ok(match &self.motion {
             Motion::Steady { .. } => self.omega0,
             Motion::Symmetric(s) => s.omega(&self.omega0, t),
@@ -766,13 +772,19 @@ impl FreeRotation {
         })
     }
 
-    /// Body angular velocity and orientation (body to space) at time `t`.
+    /// Body angular velocity and orientation (body to space) at time `t`: at `t = 0`, `omega0`
+    /// and `orientation0` themselves.
     ///
     /// # Errors
     /// [`Error::NonFinite`] for a non-finite `t`, [`Error::InvalidArgument`] for
     /// `|t| >` [`FreeRotation::max_time`].
     pub fn try_state(&self, t: f64) -> Result<(Vector3<f64>, UnitQuaternion<f64>)> {
         self.check_time(t)?;
+        if t == 0.0 {
+            // The initial state itself (see `try_omega`): the orientation was rebuilt through
+            // the frames of L and of the canonical axes, q0 = q_l q_euler q_e^-1, to rounding.
+            return Ok((self.omega0, self.orientation0));
+        }
         Ok(match &self.motion {
             Motion::Steady { axis, rate, rho } => (
                 self.omega0,

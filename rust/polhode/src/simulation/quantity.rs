@@ -90,11 +90,27 @@ impl Quantity {
         shape: &[Dim::Fixed(4)],
         unit: "1",
         frame: Frame::None,
-        description: "body-to-space orientation, scalar-last quaternion (x, y, z, w)",
+        description: "body-to-space orientation, scalar-last quaternion (x, y, z, w), its sign continuous in time",
         needs_orientation: true,
         needs_rotors: false,
         write: |s, out| match &s.quaternion {
             Some(q) => put(out, &[q.i, q.j, q.k, q.w]),
+            None => 0.0,
+        },
+    };
+
+    /// Angular velocity in space (inertial) axes: `R omega`.
+    pub const OMEGA_SPACE: Quantity = Quantity {
+        name: "omega_space",
+        shape: &[Dim::Fixed(3)],
+        unit: "rad/s",
+        frame: Frame::Space,
+        description: "angular velocity, space axes",
+        needs_orientation: true,
+        needs_rotors: false,
+        // R_b omega_b = R_p omega_p: the same vector, from the principal axes' state.
+        write: |s, out| match s.orientation_p {
+            Some(q) => put(out, (q * s.omega_p).as_slice()),
             None => 0.0,
         },
     };
@@ -105,7 +121,8 @@ impl Quantity {
         shape: &[Dim::Fixed(3)],
         unit: "kg m^2/s",
         frame: Frame::Space,
-        description: "angular momentum (with rotors, the total), space axes",
+        description:
+            "angular momentum, space axes (conserved without torque); with rotors, the total",
         needs_orientation: true,
         needs_rotors: false,
         write: |s, out| match &s.momentum_space {
@@ -120,7 +137,7 @@ impl Quantity {
         shape: &[Dim::Fixed(3)],
         unit: "kg m^2/s",
         frame: Frame::Body,
-        description: "angular momentum (with rotors, the total), body axes",
+        description: "angular momentum, body axes; with rotors, the total",
         needs_orientation: false,
         needs_rotors: false,
         write: |s, out| put(out, s.momentum.as_slice()),
@@ -132,7 +149,7 @@ impl Quantity {
         shape: &[],
         unit: "J",
         frame: Frame::None,
-        description: "rotational kinetic energy (with rotors, the total)",
+        description: "rotational kinetic energy; with rotors, the total (their spin included)",
         needs_orientation: false,
         needs_rotors: false,
         write: |s, out| put(out, &[s.energy]),
@@ -145,7 +162,7 @@ impl Quantity {
         shape: &[Dim::Rotors, Dim::Fixed(3)],
         unit: "rad/s",
         frame: Frame::Body,
-        description: "each rotor's angular velocity relative to the body, body axes",
+        description: "each rotor's angular velocity relative to the body, body axes (a wheel's along its axis)",
         needs_orientation: false,
         needs_rotors: true,
         write: |s, out| {
@@ -262,6 +279,7 @@ macro_rules! table {
 
 table!(
     OMEGA,
+    OMEGA_SPACE,
     QUATERNION,
     ANGULAR_MOMENTUM_SPACE,
     ANGULAR_MOMENTUM_BODY,
@@ -320,6 +338,8 @@ pub(crate) struct Sample<'a> {
     pub(crate) job: &'a Job,
     /// The angular velocity, principal axes.
     pub(crate) omega_p: &'a Vector3<f64>,
+    /// The principal axes' orientation, with the orientation.
+    pub(crate) orientation_p: Option<&'a UnitQuaternion<f64>>,
     /// The gyrostat and its rotor variables, with rotors.
     pub(crate) rotors: Option<(&'a Gyrostat, &'a [f64])>,
     /// The angular velocity, body axes.
@@ -381,12 +401,61 @@ impl<'a> Sample<'a> {
         Self {
             job,
             omega_p,
+            orientation_p,
             rotors,
             omega,
             momentum,
             energy,
             quaternion,
             momentum_space,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
+
+    use crate::dynamics::Method;
+    use crate::simulation::{simulate, Body, Simulation};
+
+    #[test]
+    fn omega_space_is_the_body_rate_turned_into_space() {
+        // A tensor in non-principal axes, a torque-free run by the exact solution and by rk4:
+        // omega_space = R(q) omega at every output time, from the outputs themselves.
+        let r = Rotation3::from_euler_angles(0.3, -0.7, 1.1);
+        let tensor =
+            r.matrix() * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.5)) * r.transpose();
+        let t: Vec<f64> = (0..=20).map(|k| 0.5 * f64::from(k)).collect();
+        for method in [Method::Exact, Method::Rk4 { dt: 1e-3 }] {
+            let out = simulate(
+                &Simulation::new(method),
+                &[Body::Inertia(tensor)],
+                &[Vector3::new(0.2, 1.0, -0.3)],
+                &[UnitQuaternion::identity()],
+                &t,
+                None,
+            )
+            .unwrap();
+            let (w, q, ws) = (
+                out.column("omega").unwrap(),
+                out.column("quaternion").unwrap(),
+                out.column("omega_space").unwrap(),
+            );
+            for j in 0..t.len() {
+                let q = UnitQuaternion::from_quaternion(Quaternion::new(
+                    q[4 * j + 3],
+                    q[4 * j],
+                    q[4 * j + 1],
+                    q[4 * j + 2],
+                ));
+                let want = q * Vector3::from_column_slice(&w[3 * j..3 * j + 3]);
+                let got = Vector3::from_column_slice(&ws[3 * j..3 * j + 3]);
+                assert!(
+                    (got - want).norm() <= 1e-14 * want.norm(),
+                    "{method:?} t[{j}]"
+                );
+            }
         }
     }
 }

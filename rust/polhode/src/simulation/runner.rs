@@ -11,6 +11,8 @@
 //! Every body is run on its own numbers: a body's outputs are the same bit for bit alone or in
 //! a batch, by any strategy that applies to it, whatever the number of threads.
 
+use std::cell::RefCell;
+
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
@@ -20,8 +22,8 @@ use super::quantity::Quantity;
 use super::{Body, Simulation};
 use crate::dynamics::lanes::{self, LaneOutputs};
 use crate::dynamics::{
-    exact_range, omega_scale, run_body, run_gyrostat, start, start_state, Gyrostat, Method,
-    Options, RotorSpec, State, Stats, Torque,
+    exact_range, omega_scale, run_body, run_body_with_steps, run_gyrostat, run_gyrostat_with_steps,
+    start, start_state, Gyrostat, Method, Options, RotorSpec, State, Stats, Torque,
 };
 use crate::exact::FreeRotation;
 use crate::{Error, Monitor, Result};
@@ -100,6 +102,70 @@ pub(crate) trait Equations: Sync {
         let _ = ctx;
         false
     }
+
+    /// Runs `job` by `dop853` to the last output time, reporting its states at the output
+    /// times and at the end of every accepted step (see [`every_step`]).
+    fn every_step(&self, ctx: &Context, job: &Job) -> Result<(Vec<f64>, Outputs)>;
+}
+
+/// One body's states in time order, in its principal axes (with its rotors' variables,
+/// `stride` numbers each): the samples of the every-step strategy, written afterwards.
+#[derive(Default)]
+pub(crate) struct Samples {
+    t: Vec<f64>,
+    omega: Vec<Vector3<f64>>,
+    orientation: Vec<Option<UnitQuaternion<f64>>>,
+    vars: Vec<f64>,
+}
+
+impl Samples {
+    /// The state at `t`, unless it is at or before the last one's time (a step that ends at
+    /// an output time is reported once).
+    fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&UnitQuaternion<f64>>, vars: &[f64]) {
+        if self.t.last().is_some_and(|&last| t <= last) {
+            return;
+        }
+        self.t.push(t);
+        self.omega.push(*w);
+        self.orientation.push(q.copied());
+        self.vars.extend_from_slice(vars);
+    }
+
+    /// Outputs of one body at the samples' times, written from them (the quaternions' signs
+    /// continuous in time), the body's moments and `stats`; and those times.
+    fn write(
+        self,
+        ctx: &Context,
+        job: &Job,
+        gyrostat: Option<&Gyrostat>,
+        stats: Stats,
+    ) -> Result<(Vec<f64>, Outputs)> {
+        let layout = Layout::new(ctx.layout.with_orientation, ctx.layout.rotors, &self.t);
+        let mut outputs = Outputs::zeroed(1, &layout)?;
+        let share = outputs.share();
+        let rows = share.bodies().next().expect("one body");
+        rows.moments
+            .copy_from_slice(job.moments.moments().as_slice());
+        let mut writer = Writer::new(&layout, rows.columns, 0, true);
+        let stride = gyrostat.map_or(0, Gyrostat::variables);
+        for (j, (w, q)) in self.omega.iter().zip(&self.orientation).enumerate() {
+            ctx.look(j)?;
+            let vars = &self.vars[j * stride..(j + 1) * stride];
+            writer.write(j, job, w, q.as_ref(), gyrostat.map(|g| (g, vars)));
+        }
+        rows.stats[0] = writer.finish(Ok(stats))?;
+        Ok((self.t, outputs))
+    }
+}
+
+/// The every-step strategy: one body by `dop853`, its states at the output times and at the
+/// end of every accepted step, in time order, collected as they come and then written.
+pub(crate) fn every_step<E: Equations>(
+    equations: &E,
+    ctx: &Context,
+) -> Result<(Vec<f64>, Outputs)> {
+    let job = ctx.job(0)?;
+    equations.every_step(ctx, &job)
 }
 
 /// Euler's equations of a rigid body: the scalar strategy through the driver's loops, the
@@ -133,6 +199,29 @@ impl Equations for RigidBody {
         writer.finish(ran)
     }
 
+    fn every_step(&self, ctx: &Context, job: &Job) -> Result<(Vec<f64>, Outputs)> {
+        let options = ctx.options(job.torque.as_deref());
+        let t = ctx.layout.t;
+        let samples = RefCell::new(Samples::default());
+        let stats = run_body_with_steps(
+            &ctx.run.method,
+            &job.moments,
+            &job.state,
+            t,
+            &options,
+            &mut |j, w, q| {
+                ctx.look(j)?;
+                samples.borrow_mut().push(t[j], w, q, &[]);
+                Ok(())
+            },
+            Some(&mut |time, w, q| {
+                samples.borrow_mut().push(time, w, q, &[]);
+                Ok(())
+            }),
+        )?;
+        samples.into_inner().write(ctx, job, None, stats)
+    }
+
     fn in_lanes(&self, ctx: &Context) -> bool {
         let options = ctx.options(None);
         ctx.omega0.len() > 1
@@ -163,6 +252,30 @@ impl Equations for WithRotors<'_> {
                 Ok(())
             },
         )
+    }
+
+    fn every_step(&self, ctx: &Context, job: &Job) -> Result<(Vec<f64>, Outputs)> {
+        let gyrostat = Gyrostat::new(job.moments.moments(), &job.axes(), self.rotors)?;
+        let options = ctx.options(job.torque.as_deref());
+        let t = ctx.layout.t;
+        let samples = RefCell::new(Samples::default());
+        let stats = run_gyrostat_with_steps(
+            &ctx.run.method,
+            &gyrostat,
+            &job.state,
+            t,
+            &options,
+            &mut |j, w, q, vars| {
+                ctx.look(j)?;
+                samples.borrow_mut().push(t[j], w, Some(q), vars);
+                Ok(())
+            },
+            Some(&mut |time, w, q, vars| {
+                samples.borrow_mut().push(time, w, Some(q), vars);
+                Ok(())
+            }),
+        )?;
+        samples.into_inner().write(ctx, job, Some(&gyrostat), stats)
     }
 }
 

@@ -1,0 +1,98 @@
+//! `fastest_rate`: how fast a run's bodies turn, for the output times of `polhode.simulate`
+//! with an end time. Converts the arguments as `simulate` does and calls the core.
+
+use std::sync::{Arc, Mutex};
+
+use numpy::PyReadonlyArrayDyn;
+use polhode::dynamics::{Method, MethodSettings};
+use polhode::simulation::{fastest_rate as core_fastest_rate, fixed_steps, Simulation};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::bad_shape;
+use crate::errors::CoreError;
+use crate::motion::{bodies, dense, orientations, rows3};
+use crate::rotors::rotor_spec;
+use crate::torque::{calls_python, torque_spec, Raised};
+
+/// The fastest rate (rad per unit time) of the motions of `body` from `omega0` at `t0` until
+/// `t_end`, with the arguments of `simulate` (one body, or N): a dict with `rate`, `pace`
+/// (what sets it: `"rest"`, `"spin"`, `"period"`, `"precession"`, `"torque"`, `"rotors"`),
+/// `body` (the index of the fastest body), `steps` (the steps a fixed-step method takes from
+/// `t0` to `t_end`, None for the others) and `method` (its name, `"auto"` resolved). The errors
+/// are `simulate`'s for the output times `[t0, t_end]`. A Python torque function is called once
+/// per body, at `t0`.
+#[pyfunction]
+#[pyo3(signature = (
+    body, omega0, t_end, *, orientation0=None, t0=0.0, method="auto", dt=None, order=4,
+    rtol=1e-10, atol=None, torque=None, rotors=None
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn fastest_rate<'py>(
+    py: Python<'py>,
+    body: &Bound<'py, PyAny>,
+    omega0: PyReadonlyArrayDyn<'py, f64>,
+    t_end: f64,
+    orientation0: Option<PyReadonlyArrayDyn<'py, f64>>,
+    t0: f64,
+    method: &str,
+    dt: Option<f64>,
+    order: i64,
+    rtol: f64,
+    atol: Option<f64>,
+    torque: Option<Bound<'py, PyAny>>,
+    rotors: Option<Vec<Bound<'py, PyAny>>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (omega_shape, omega_data) = dense(&omega0);
+    let n = match omega_shape {
+        [3] => None,
+        [n, 3] => Some(*n),
+        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
+    };
+    let bodies = bodies(body, n)?;
+    let omega0 = rows3(&omega_data);
+    let orientation0 = orientations(orientation0)?;
+    let raised: Raised = Arc::new(Mutex::new(None));
+    let spec = torque
+        .as_ref()
+        .map(|t| torque_spec(t, &raised))
+        .transpose()?;
+    let rotors = rotors
+        .unwrap_or_default()
+        .iter()
+        .map(|r| rotor_spec(r, &raised))
+        .collect::<PyResult<Vec<_>>>()?;
+    let settings = MethodSettings {
+        dt,
+        order,
+        rtol,
+        atol,
+        torque: spec.is_some(),
+        rotors: !rotors.is_empty(),
+    };
+    let method = Method::from_name(method, &settings).map_err(CoreError)?;
+    // Bodies in parallel but with a Python torque or motor (called with the GIL, one body
+    // after another), the GIL released as `simulate` releases it.
+    let serial = spec.as_ref().is_some_and(calls_python) || rotors.iter().any(|r| r.has_function());
+    let run = Simulation {
+        method,
+        t0,
+        with_orientation: true,
+        max_steps: 1,
+        torque: spec,
+        parallel: omega0.len() > 1 && !serial,
+        rotors,
+    };
+    let rate = py.detach(|| core_fastest_rate(&run, &bodies, &omega0, &orientation0, t_end));
+    if let Some(error) = raised.lock().ok().and_then(|mut slot| slot.take()) {
+        return Err(error);
+    }
+    let rate = rate.map_err(CoreError)?;
+    let out = PyDict::new(py);
+    out.set_item("rate", rate.rate)?;
+    out.set_item("pace", rate.pace.name())?;
+    out.set_item("body", rate.body)?;
+    out.set_item("steps", fixed_steps(&run.method, t0, t_end))?;
+    out.set_item("method", run.method.name())?;
+    Ok(out)
+}
