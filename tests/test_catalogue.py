@@ -2141,9 +2141,7 @@ err(area, "hash(Principal)", lambda: hash(ph.principal(SPD)), TypeError, None,
 val(area, "Trajectory == its copy",
     compared(lambda: [("deep-copied", *(lambda t: (t, copy.deepcopy(t)))(
         ph.simulate(M123, W, TIMES)), True)]), as_expected,
-    "equal motion, stats apart", xfail="Trajectory's == needs python/polhode/simulation.py "
-    "(eq=False and __eq__ by _equality.fields_equal over its motion, stats left out), which is "
-    "being reworked elsewhere: it raises numpy's 'truth value of an array is ambiguous'")
+    "equal motion, stats apart")
 area = "body"
 err(area, "inertia_about point masked", lambda: BOX.inertia_about(masked([0, 0, 1], [1, 0, 0])),
     ph.ArgumentError, "point")

@@ -1,5 +1,5 @@
-"""``==`` of the result types (:class:`polhode.Principal`, :class:`polhode.Analysis`): value
-equality, field by field, exact.
+"""``==`` of the result types (:class:`polhode.Principal`, :class:`polhode.Analysis`,
+:class:`polhode.Trajectory`): value equality, field by field, exact.
 
 ``a == b`` when ``b`` is of the same type and every field is equal:
 

@@ -17,6 +17,7 @@ from polhode import _core, _display
 from polhode._chunks import spans
 from polhode._coerce import as_flag, as_integer, as_scalar
 from polhode._coerce import as_float_array as _as_float_array
+from polhode._equality import equal, fields_equal
 from polhode._euler import euler_angles
 from polhode._fields import Fields
 from polhode._inputs import core_body as _body
@@ -86,20 +87,14 @@ class Trajectory(Fields[NDArray[np.float64]]):
 
     def __eq__(self, other: object) -> bool:
         """Equal trajectories: the same output times, quantities (None where the other has
-        None) and moments, exactly (``numpy.array_equal``), and the same method and costs;
-        the wall time and the account of how the times were chosen are not compared."""
+        None) and moments, and the same method and costs, each exactly as ``polhode._equality``
+        compares results; the wall time and the account of how the times were chosen are not
+        compared."""
         if type(other) is not type(self):
             return NotImplemented
         assert isinstance(other, Trajectory)
-        for name in ("t", *OUTPUTS):
-            a, b = getattr(self, name), getattr(other, name)
-            if (a is None) != (b is None):
-                return False
-            if a is not None and (np.shape(a) != np.shape(b) or not np.array_equal(a, b)):
-                return False
-        mine, theirs = _compared(self.stats), _compared(other.stats)
-        return mine.keys() == theirs.keys() and all(
-            np.array_equal(mine[k], theirs[k]) for k in mine
+        return fields_equal(self, other, ("t", *OUTPUTS)) and equal(
+            _compared(self.stats), _compared(other.stats)
         )
 
     __hash__ = None  # type: ignore[assignment]  # equal by value, and mutable arrays
