@@ -240,6 +240,8 @@ def test_a_stable_spin_keeps_its_marked_end_toward_l(bar):
     traj = ph.simulate(bar, [0.05, 0.05, 5.0], np.linspace(0.0, 6.0, 301))
     fig = plot.scene(traj, bar, frames=30)
     assert fig.layout.meta["mark"] == 2
+    # Spun about its largest axis: a stable spin, and the title does not speak of a flip.
+    assert "(L circulates about axis 3 (I3): a stable spin)" in fig.frames[0].layout.title.text
     for f, k in enumerate(fig.layout.meta["frame_indices"]):
         momentum = quaternion_matrix(traj.quaternion[k]) @ bar.inertia @ traj.omega[k]
         assert trace(fig, "mark", f)[0] @ momentum > 0
@@ -269,11 +271,20 @@ def test_legend_titles_units_and_controls(flipping, bar):
         assert list(axis.range) == list(fig.layout.scene.xaxis.range)
         assert axis.autorange is False
     assert fig.layout.scene.aspectmode == "cube"
-    regime = ph.analyze(bar, OMEGA0).regime
+    # Spun near its intermediate axis, the bar turns over: the title says so, with analyze's
+    # interval and the axis L circulates about, numbered as a person reads it (here the
+    # largest, I3), never the regime's code name.
+    analysis = ph.analyze(bar, OMEGA0)
+    assert analysis.turns_over and analysis.regime == "about_largest_axis"
+    words = (
+        f"L circulates about axis 3 (I3); the body turns over every "
+        f"{analysis.flip_interval:.4g} s"
+    )
     times = flipping.t[fig.layout.meta["frame_indices"]]
     for frame, t in zip(fig.frames, times, strict=True):
         text = frame.layout.title.text
-        assert f"regime {regime}" in text
+        assert f"Poinsot's construction ({words})<br>" in text
+        assert "regime" not in text and "about_largest_axis" not in text
         assert re.search(r"t = ([-0-9.e+]+) s", text).group(1) == f"{t:.4g}"
     (menu,) = fig.layout.updatemenus
     assert [b.label for b in menu.buttons] == ["Play", "Pause"]
@@ -290,6 +301,8 @@ def test_other_units_in_every_label(flipping, bar):
     assert "kg mm^2/min" in names and "omega (rad/min)" in names and "rad/min per mm" in names
     assert fig.layout.sliders[0].currentvalue.suffix == " min"
     assert fig.frames[-1].layout.title.text.endswith(f"t = {flipping.t[-1]:.4g} min")
+    assert " turns over every " in fig.frames[-1].layout.title.text
+    assert fig.frames[-1].layout.title.text.split("<br>")[0].endswith(" min)")
     with pytest.raises(ph.ArgumentError, match="angle") as error:
         plot.scene(flipping, bar, units={"angle": "deg"})
     assert error.value.argument == "units"

@@ -107,8 +107,9 @@ def scene(
       frame's time.
 
     Coordinates are those of omega, in rad/s (SI units by default, see ``units``); the title
-    says the regime (:func:`polhode.analyze`'s ``regime`` of the motion at the first output
-    time) and the frame's time.
+    says what the motion does (from :func:`polhode.analyze` of its state at the first output
+    time: the axis L circulates about, numbered 1, 2, 3, and whether the body turns over, every
+    ``flip_interval``) and the frame's time.
 
     The ellipsoid and the plane of each frame are those of that frame's omega: T = w . I w / 2,
     L = R I w. Without a torque they are the same in every frame (to the method's drift). A
@@ -419,17 +420,44 @@ class _Geometry:
         self.sphere, self.sphere_faces = unit_sphere(settings.resolution)
         self.e1, self.e2 = plane_basis(normal[0], motion.omega_space[0] - self.centres[0])
 
-        # The regime, from the motion at the first output time.
-        regime = analyze(tensor, motion.omega_body[0]).regime
-        if motion.moving:
-            self.condition = (
-                f"L not conserved (changes by {motion.change:.2g} of |L|): L and the plane move"
-            )
-        else:
-            self.condition = f"regime {regime}"
+        # What the motion does, from its state at the first output time.
+        self.analysis = analyze(tensor, motion.omega_body[0])
+        self.moving = motion.moving
+        self.change = motion.change
+
+    def condition(self, unit: Units) -> str:
+        """What the title says the motion does: the words of :func:`polhode.analyze` (which
+        axis L circulates about, whether the body turns over), short."""
+        if self.moving:
+            return f"L not conserved (changes by {self.change:.2g} of |L|): L and the plane move"
+        return motion_words(self.analysis, unit.time)
 
     def title(self, motion: _Motion, unit: Units, k: int) -> str:
-        return f"Poinsot's construction ({self.condition})<br>t = {motion.t[k]:.4g} {unit.time}"
+        return (
+            f"Poinsot's construction ({self.condition(unit)})<br>"
+            f"t = {motion.t[k]:.4g} {unit.time}"
+        )
+
+
+def motion_words(analysis: Any, time_unit: str) -> str:
+    """The motion in a few words for a title, from an :class:`polhode.Analysis`: which axis L
+    circulates about (numbered 1, 2, 3), and whether the body turns over, with its interval."""
+    regime = analysis.regime
+    if regime == "rest":
+        return "at rest"
+    if regime == "spherical":
+        return "a spherical body: omega fixed"
+    if regime == "symmetric":
+        return "a symmetric top: omega and L precess at a constant angle"
+    if regime == "steady_intermediate":
+        return "a steady spin about axis 2 (I2): unstable"
+    if regime == "separatrix":
+        return "on the separatrix: the body turns over once"
+    axis = 3 if regime == "about_largest_axis" else 1
+    about = f"L circulates about axis {axis} (I{axis})"
+    if analysis.turns_over:
+        return f"{about}; the body turns over every {analysis.flip_interval:.4g} {time_unit}"
+    return f"{about}: a stable spin"
 
 
 def _frame_data(
@@ -688,8 +716,9 @@ def _layout(motion: _Motion, geometry: _Geometry, settings: _Settings) -> Any:
     return go.Layout(
         title={
             "text": geometry.title(motion, unit, int(motion.indices[0])),
-            "x": 0.5,
-            "xanchor": "center",
+            # At the left, above the legend: plotly's tool bar takes the top right corner.
+            "x": 0.01,
+            "xanchor": "left",
         },
         height=720,
         margin={"l": 10, "r": 10, "t": 70, "b": 80},
