@@ -173,6 +173,7 @@ pub fn simulate(
         orientation0,
         layout,
         monitor,
+        failures: crate::monitor::Failures::new(),
     };
     if rotors == 0 {
         runner::run(&RigidBody, &ctx, &mut outputs)?;

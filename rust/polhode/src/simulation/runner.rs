@@ -24,7 +24,9 @@ use crate::dynamics::{
     Options, RotorSpec, State, Stats, Torque,
 };
 use crate::exact::FreeRotation;
+use crate::monitor::{running, Failures};
 use crate::{Error, Monitor, Result};
+use std::sync::Arc;
 
 /// Outputs written between two looks at the monitor (a few hundred microseconds).
 const OUTPUT_LOOK_EVERY: usize = 4096;
@@ -45,6 +47,8 @@ pub(crate) struct Context<'c> {
     pub(crate) orientation0: &'c [UnitQuaternion<f64>],
     pub(crate) layout: Layout<'c>,
     pub(crate) monitor: Option<&'c Monitor>,
+    /// The batch's first failure: the bodies after it stop (see [`Failures`]).
+    pub(crate) failures: Arc<Failures>,
 }
 
 impl Context<'_> {
@@ -68,6 +72,12 @@ impl Context<'_> {
             max_steps: self.run.max_steps,
             monitor: self.monitor,
         }
+    }
+
+    /// Body `i` failed with `error`: the bodies after it stop (see [`Failures`]).
+    fn failed(&self, i: usize, error: Error) -> (usize, Error) {
+        self.failures.fail(i);
+        (i, error)
     }
 
     /// A look at the monitor every [`OUTPUT_LOOK_EVERY`] outputs: writing millions of them
@@ -175,7 +185,8 @@ pub(crate) fn run<E: Equations>(equations: &E, ctx: &Context, outputs: &mut Outp
         on_blocks(ctx, share, 1, |block| {
             block.bodies().find_map(|body| {
                 let i = body.index;
-                one(equations, ctx, body).err().map(|e| (i, e))
+                let ran = ctx.failures.run_as(i, || one(equations, ctx, body));
+                ran.err().map(|e| ctx.failed(i, e))
             })
         })
     } else if matches!(ctx.run.method, Method::Splitting { .. }) && ctx.bodies.len() > 1 {
@@ -185,14 +196,23 @@ pub(crate) fn run<E: Equations>(equations: &E, ctx: &Context, outputs: &mut Outp
                 let mut blocks = grouped_blocks(ctx, rows);
                 let parallel = ctx.run.parallel && blocks.len() > 1;
                 first_error(parallel, &mut blocks, |block| {
-                    block_of_lanes(equations, ctx, block.iter_mut().map(std::mem::take))
+                    // Rows in ascending order of index within a block.
+                    let first = block.first().map_or(0, |rows| rows.index);
+                    if ctx.failures.stops(first) {
+                        return None;
+                    }
+                    ctx.failures.run_as(first, || {
+                        block_of_lanes(equations, ctx, block.iter_mut().map(std::mem::take))
+                    })
                 })
                 .map_or(Ok(()), Err)
             })
             .err()
     } else {
         on_blocks(ctx, share, lanes::LANES, |block| {
-            block_of_lanes(equations, ctx, block.bodies())
+            ctx.failures.run_as(block.first, || {
+                block_of_lanes(equations, ctx, block.bodies())
+            })
         })
     };
     match failed {
@@ -212,6 +232,14 @@ fn on_blocks<'a>(
     size: usize,
     f: impl Fn(Share<'a>) -> Option<(usize, Error)> + Sync,
 ) -> Option<(usize, Error)> {
+    // A block after the batch's first failure is skipped: it cannot hold the first error.
+    let f = |block: Share<'a>| {
+        if ctx.failures.stops(block.first) {
+            None
+        } else {
+            f(block)
+        }
+    };
     let in_order = |share: Share<'a>| {
         let mut rest = share;
         let mut failed = None;
@@ -292,7 +320,15 @@ fn exact(ctx: &Context, job: &Job, mut columns: [&mut [f64]; COLUMNS]) -> Result
             }
         }
         if ctx.run.parallel {
-            chunks.into_par_iter().map(chunk).collect()
+            // Each chunk as the body whose chunk it is, on whichever thread runs it.
+            let body = running();
+            chunks
+                .into_par_iter()
+                .map(|c| match &body {
+                    Some((failures, i)) => failures.run_as(*i, || chunk(c)),
+                    None => chunk(c),
+                })
+                .collect()
         } else {
             chunks.into_iter().map(chunk).collect()
         }
@@ -426,6 +462,7 @@ fn block_of_lanes<'a, E: Equations>(
 ) -> Option<(usize, Error)> {
     let mut failed: Option<(usize, Error)> = None;
     let mut fail = |i: usize, error: Error| {
+        ctx.failures.fail(i);
         if failed.as_ref().is_none_or(|(f, _)| i < *f) {
             failed = Some((i, error));
         }
