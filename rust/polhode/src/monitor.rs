@@ -258,8 +258,8 @@ pub(crate) struct Failures {
 }
 
 thread_local! {
-    /// The batch whose body this thread is running, and that body: the batch is kept after the
-    /// body (so that the next body of the same batch sets its index only), the body is not.
+    /// The batch whose body this thread is running, and that body (both `None` between
+    /// bodies).
     static RUNNING: RefCell<(Option<Arc<Failures>>, Option<usize>)> =
         const { RefCell::new((None, None)) };
 }
@@ -319,9 +319,9 @@ impl Drop for Restore {
     fn drop(&mut self) {
         RUNNING.with_borrow_mut(|(batch, running)| {
             *running = self.outer;
-            // The batch of an outer body is put back; at the top level the batch stays, so that
-            // the next body of the same batch on this thread clones nothing.
-            if let (Some(replaced), Some(_)) = (self.batch.take(), self.outer) {
+            // What the thread ran before is put back (at the top level, nothing): the thread
+            // keeps no batch once its bodies are done.
+            if let Some(replaced) = self.batch.take() {
                 *batch = replaced;
             }
         });
