@@ -8,6 +8,7 @@ delta away differs by M delta^2 (second order) or, in a composition, by ~2 M del
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, note
 from hypothesis import strategies as st
 
@@ -359,3 +360,32 @@ def test_the_exact_solution_keeps_the_invariants(motion):
     drift = ph.invariants.relative_drift(split)
     for name in ("angular_momentum_norm", "angular_momentum_space"):
         assert float(np.max(drift[name])) <= 64 * 16 * EPS, (name, drift[name].max() / EPS)
+
+
+@pytest.mark.parametrize(
+    ("mass_scale", "omega"),
+    [
+        # Found by test_angular_momentum_and_energy: an energy of 4e-313 (subnormal) was 290
+        # units of the smallest subnormal off (omega_z^2 formed as a subnormal first).
+        (1.0, (0.0, 0.0, 1.5697050156479287e-158)),
+        (1.0, (3e-160, -2e-159, 1.1e-158)),
+        (1.0, (1e-170, 0.0, 0.0)),
+        # |omega|^2 overflows, the energy does not (it was reported as an overflow).
+        (1e-12, (0.0, 2e154, -1e154)),
+    ],
+)
+def test_kinetic_energy_near_the_ends_of_the_range(mass_scale, omega):
+    # 0.5 w . I w in exact rationals from the materialised tensor (componentwise accurate to
+    # an ulp): the energy within 4 eps of it plus one unit of the smallest subnormal.
+    from fractions import Fraction
+
+    masses = mass_scale * np.array([67.0, 67.0, 67.0, 67.0])
+    positions = np.array([[1.0, 2.0, 3.0], [-2.0, 5.0, 1.0], [4.0, -1.0, 2.0], [0.5, 3.0, -6.0]])
+    body = ph.Body.point_masses(masses, positions)
+    inertia = [[Fraction(float(x)) for x in row] for row in np.asarray(body.inertia)]
+    w = [Fraction(x) for x in omega]
+    exact = sum(inertia[i][j] * w[i] * w[j] for i in range(3) for j in range(3)) / 2
+    energy = body.kinetic_energy(omega)
+    assert abs(Fraction(energy) - exact) <= 4 * Fraction(EPS) * exact + Fraction(SUBNORMAL), (
+        energy, float(exact)
+    )

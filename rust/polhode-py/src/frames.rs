@@ -5,12 +5,12 @@ use numpy::{
     Element, IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use polhode::mass::Position;
-use polhode::Monitor;
+use polhode::memory::Purpose;
 use pyo3::prelude::*;
 
 use crate::convert::bad_shape;
 use crate::errors::CoreError;
-use crate::watch::{run_on_pool, Watch};
+use crate::watch::{run_on_pool, Call};
 
 /// Inertia tensors (3, 3) of one frame (N, 3) of point masses, or (T, 3, 3) of a trajectory
 /// (T, N, 3), each about its frame's centre of mass, in parallel with the GIL released.
@@ -61,23 +61,23 @@ where
             ))
         }
     };
-    let mut inertia = vec![0.0; 9 * frames];
+    let mut inertia =
+        polhode::memory::zeros::<f64>(9 * frames, Purpose::FrameTensors).map_err(CoreError)?;
     let long = positions.len() > 2 * polhode::mass::FRAME_POINTS_CHUNK
         && rayon::current_thread_index().is_none();
     let result = if long {
-        let monitor = Monitor::new();
-        let watch = Watch::new(None, 1, 0.0);
+        let call = Call::new(None, 1, 0.0);
         let result = py.detach(|| {
-            run_on_pool(&monitor, &watch, || {
+            run_on_pool(&call, || {
                 polhode::mass::point_masses_inertia_monitored(
                     masses,
                     positions,
                     &mut inertia,
-                    Some(&monitor),
+                    Some(call.monitor()),
                 )
             })
         });
-        if let Some(error) = watch.take_raised() {
+        if let Some(error) = call.take_raised() {
             return Err(error);
         }
         result.unwrap_or_else(|| unreachable!("a panic of the work is re-raised by its scope"))

@@ -6,15 +6,16 @@ use numpy::{
     PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
 use polhode::mass::SOLIDS;
+use polhode::memory::Purpose;
 use polhode::MassProperties;
 use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py};
+use crate::convert::{bad_shape, matrix3, matrix_to_py, vector3, vector_to_py, zeros};
 use crate::errors::{CoreError, CoreResult};
-use crate::watch::{run_on_pool, Watch};
+use crate::watch::{run_on_pool, Call};
 
 /// Runs `work` (given a monitor to look at) with the GIL released. A long call (`long`) runs on
 /// the rayon pool while this thread polls for Ctrl-C every 50 ms (see [`run_on_pool`]): Ctrl-C
@@ -29,10 +30,9 @@ fn watched<T: Send>(
     if !long || rayon::current_thread_index().is_some() {
         return Ok(py.detach(|| work(None)).map_err(CoreError)?);
     }
-    let monitor = Monitor::new();
-    let watch = Watch::new(None, 1, 0.0);
-    let result = py.detach(|| run_on_pool(&monitor, &watch, || work(Some(&monitor))));
-    if let Some(error) = watch.take_raised() {
+    let call = Call::new(None, 1, 0.0);
+    let result = py.detach(|| run_on_pool(&call, || work(Some(call.monitor()))));
+    if let Some(error) = call.take_raised() {
         return Err(error);
     }
     let result =
@@ -377,7 +377,8 @@ pub fn principal<'py>(
     let slice = match inertia.as_slice() {
         Ok(s) => s,
         Err(_) => {
-            data = inertia.as_array().iter().copied().collect();
+            data = polhode::memory::collect(inertia.as_array().iter().copied(), Purpose::Input)
+                .map_err(CoreError)?;
             &data
         }
     };
@@ -389,10 +390,10 @@ pub fn principal<'py>(
     // The outputs are numpy's own zeroed arrays, written in place: numpy asks the kernel for
     // huge pages for large arrays (madvise), so a batch of 1e6 tensors takes ~300 page faults
     // where vectors of ours took ~29000 (on the 2-core VM those faults cost as much system time
-    // as the solve's own).
-    let moments = PyArrayDyn::<f64>::zeros(py, moments_shape.clone(), false);
-    let axes = PyArrayDyn::<f64>::zeros(py, axes_shape, false);
-    let multiplicity = PyArrayDyn::<i64>::zeros(py, moments_shape, false);
+    // as the solve's own). MemoryError if they do not fit.
+    let moments = zeros::<f64, _>(py, moments_shape.clone(), Purpose::PrincipalAxes)?;
+    let axes = zeros::<f64, _>(py, axes_shape, Purpose::PrincipalAxes)?;
+    let multiplicity = zeros::<i64, _>(py, moments_shape, Purpose::PrincipalAxes)?;
     {
         let mut moments_view = moments.readwrite();
         let mut axes_view = axes.readwrite();

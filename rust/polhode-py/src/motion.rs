@@ -5,19 +5,18 @@
 //! name, the GIL, Ctrl-C and progress.
 
 use std::borrow::Cow;
-use std::sync::{Arc, Mutex};
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use polhode::dynamics::{Method, MethodSettings, METHODS};
 use polhode::exact::{FreeRotation, Regime};
+use polhode::memory::{self, Purpose};
 use polhode::settings::count;
 use polhode::simulation::{
     orientation_from_matrix, orientation_from_quaternion, spreads_times, Body, Dim, Outputs,
     Quantity, Simulation,
 };
-use polhode::Monitor;
 use pyo3::exceptions::PyTypeError;
 use pyo3::intern;
 use pyo3::prelude::*;
@@ -28,26 +27,30 @@ use crate::convert::bad_shape;
 use crate::errors::CoreError;
 use crate::mass::PyMassProperties;
 use crate::rotors::rotor_spec;
-use crate::torque::{calls_python, torque_spec, Raised};
-use crate::watch::{run_on_pool, Watch};
+use crate::torque::{calls_python, torque_spec};
+use crate::watch::{run_on_pool, Call};
 
 /// A float64 array of any shape, as (shape, row-major numbers). A contiguous array is copied
 /// as one slice (iterating a dynamic-dimensional view costs ~20 ns a number: 0.2 s of output
 /// times that Ctrl-C could not interrupt for 1e7).
 /// A contiguous array is borrowed as it is, not copied (each copy an allocation of a small
 /// call).
-pub(crate) fn dense<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> (&'a [usize], Cow<'a, [f64]>) {
+pub(crate) fn dense<'a>(
+    a: &'a PyReadonlyArrayDyn<'_, f64>,
+) -> PyResult<(&'a [usize], Cow<'a, [f64]>)> {
     let data = match a.as_slice() {
         Ok(slice) => Cow::Borrowed(slice),
-        Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
+        Err(_) => Cow::Owned(
+            memory::collect(a.as_array().iter().copied(), Purpose::Input).map_err(CoreError)?,
+        ),
     };
-    (a.shape(), data)
+    Ok((a.shape(), data))
 }
 
-pub(crate) fn rows3(data: &[f64]) -> Vec<Vector3<f64>> {
-    data.chunks_exact(3)
-        .map(Vector3::from_column_slice)
-        .collect()
+/// Rows of three numbers as vectors (the bodies' angular velocities or moments).
+pub(crate) fn rows3(data: &[f64]) -> PyResult<Vec<Vector3<f64>>> {
+    let rows = data.chunks_exact(3).map(Vector3::from_column_slice);
+    Ok(memory::collect(rows, Purpose::Bodies).map_err(CoreError)?)
 }
 
 /// The bodies: `omega0`'s shape decides. (3,) is one body: principal moments (3,), a tensor
@@ -58,18 +61,20 @@ pub(crate) fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<
         return Ok(vec![Body::MassProperties(props.get().0)]);
     }
     if let Ok(list) = body.cast::<PyList>() {
-        let parts: Vec<Body> = list
-            .iter()
-            .map(|item| {
-                item.cast::<PyMassProperties>()
-                    .map(|p| Body::MassProperties(p.get().0))
-                    .map_err(|_| {
-                        PyTypeError::new_err(
-                            "Expected `body` to be a list of polhode.Body, got another item.",
-                        )
-                    })
-            })
-            .collect::<PyResult<_>>()?;
+        let mut parts = memory::with_capacity(list.len(), Purpose::Bodies).map_err(CoreError)?;
+        for item in list.iter() {
+            let props = item.cast::<PyMassProperties>().map_err(|_| {
+                PyTypeError::new_err(
+                    "Expected `body` to be a list of polhode.Body, got another item.",
+                )
+            })?;
+            memory::push(
+                &mut parts,
+                Body::MassProperties(props.get().0),
+                Purpose::Bodies,
+            )
+            .map_err(CoreError)?;
+        }
         if n != Some(parts.len()) {
             let expected = match n {
                 Some(n) => format!("({n},) to match `omega0`"),
@@ -80,12 +85,15 @@ pub(crate) fn bodies(body: &Bound<'_, PyAny>, n: Option<usize>) -> PyResult<Vec<
         return Ok(parts);
     }
     let array: PyReadonlyArrayDyn<'_, f64> = body.extract()?;
-    let (shape, data) = dense(&array);
+    let (shape, data) = dense(&array)?;
     match (n, shape) {
         (_, [3]) => Ok(vec![Body::Moments(Vector3::from_column_slice(&data))]),
         (None, [3, 3]) => Ok(vec![Body::Inertia(Matrix3::from_row_slice(&data))]),
         (Some(n), [rows, 3]) if *rows == n => {
-            Ok(rows3(&data).into_iter().map(Body::Moments).collect())
+            let moments = data
+                .chunks_exact(3)
+                .map(|row| Body::Moments(Vector3::from_column_slice(row)));
+            Ok(memory::collect(moments, Purpose::Bodies).map_err(CoreError)?)
         }
         (None, _) => Err(bad_shape(
             "body",
@@ -112,31 +120,26 @@ pub(crate) fn orientations(
     let Some(array) = orientation0 else {
         return Ok(vec![UnitQuaternion::identity()]);
     };
-    let (shape, data) = dense(&array);
+    let (shape, data) = dense(&array)?;
     let convert = |k: usize, item: polhode::Result<UnitQuaternion<f64>>| {
-        item.map_err(|e| CoreError(if k > 0 { e.in_body(k) } else { e }).into())
+        item.map_err(|e| PyErr::from(CoreError(if k > 0 { e.in_body(k) } else { e })))
+    };
+    // One orientation per row, the first bad one's error.
+    let each = |width: usize, make: &dyn Fn(&[f64]) -> polhode::Result<UnitQuaternion<f64>>| {
+        let mut out =
+            memory::with_capacity(data.len() / width, Purpose::Bodies).map_err(CoreError)?;
+        for (k, row) in data.chunks_exact(width).enumerate() {
+            out.push(convert(k, make(row))?);
+        }
+        Ok(out)
     };
     match shape {
-        [4] | [_, 4] => data
-            .chunks_exact(4)
-            .enumerate()
-            .map(|(k, q)| {
-                convert(
-                    k,
-                    orientation_from_quaternion("orientation0", [q[0], q[1], q[2], q[3]]),
-                )
-            })
-            .collect(),
-        [3, 3] | [_, 3, 3] => data
-            .chunks_exact(9)
-            .enumerate()
-            .map(|(k, r)| {
-                convert(
-                    k,
-                    orientation_from_matrix("orientation0", &Matrix3::from_row_slice(r)),
-                )
-            })
-            .collect(),
+        [4] | [_, 4] => each(4, &|q| {
+            orientation_from_quaternion("orientation0", [q[0], q[1], q[2], q[3]])
+        }),
+        [3, 3] | [_, 3, 3] => each(9, &|r| {
+            orientation_from_matrix("orientation0", &Matrix3::from_row_slice(r))
+        }),
         _ => Err(bad_shape(
             "orientation0",
             "(4,) an (x, y, z, w) quaternion, (3, 3) a rotation matrix, or N of them",
@@ -192,28 +195,32 @@ pub fn simulate<'py>(
     rotors: Option<Vec<Bound<'py, PyAny>>>,
     every_step: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (omega_shape, omega_data) = dense(&omega0);
+    let (omega_shape, omega_data) = dense(&omega0)?;
     let n = match omega_shape {
         [3] => None,
         [n, 3] => Some(*n),
         _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
     };
     let bodies = bodies(body, n)?;
-    let omega0 = rows3(&omega_data);
+    let omega0 = rows3(&omega_data)?;
     let orientation0 = orientations(orientation0)?;
-    let (t_shape, times) = dense(&t);
+    let (t_shape, times) = dense(&t)?;
     if t_shape.len() != 1 {
         return Err(bad_shape("t", "(M,)", t_shape));
     }
-    let raised: Raised = Arc::new(Mutex::new(None));
-    let spec = torque
-        .as_ref()
-        .map(|t| torque_spec(t, &raised))
-        .transpose()?;
+    // The call's one cancellation path: Ctrl-C, cancel_all, progress and the Python callbacks
+    // of the torque and the rotors all stop it there.
+    let span = times.last().map_or(0.0, |&t| t - t0);
+    let call = Call::new(
+        progress.as_ref().map(|p| p.clone().unbind()),
+        omega0.len(),
+        span,
+    );
+    let spec = torque.as_ref().map(|t| torque_spec(t, &call)).transpose()?;
     let rotors = rotors
         .unwrap_or_default()
         .iter()
-        .map(|r| rotor_spec(r, &raised))
+        .map(|r| rotor_spec(r, &call))
         .collect::<PyResult<Vec<_>>>()?;
     let settings = MethodSettings {
         dt,
@@ -247,12 +254,6 @@ pub fn simulate<'py>(
         parallel: !inline,
         rotors,
     };
-    let span = times.last().map_or(0.0, |&t| t - t0);
-    let watch = Arc::new(Watch::new(progress.map(Bound::unbind), omega0.len(), span));
-    let monitor = Monitor::with_on_look({
-        let watch = Arc::clone(&watch);
-        move |monitor| watch.poll(monitor, false)
-    });
     if every_step && (n.is_some() || bodies.len() != 1) {
         return Err(PyTypeError::new_err(
             "every_step=True reports the steps of one body: give `omega0` of shape (3,).",
@@ -266,7 +267,7 @@ pub fn simulate<'py>(
                 &omega0[0],
                 &orientation0[0],
                 &times,
-                Some(&monitor),
+                Some(call.monitor()),
             )
             .map(|(times, outputs)| (Some(times), outputs))
         } else {
@@ -276,29 +277,26 @@ pub fn simulate<'py>(
                 &omega0,
                 &orientation0,
                 &times,
-                Some(&monitor),
+                Some(call.monitor()),
             )
             .map(|outputs| (None, outputs))
         }
     };
-    let result = py.detach(|| {
-        if inline {
-            Some(work())
-        } else {
-            run_on_pool(&monitor, &watch, work)
-        }
-    });
-    if let Some(error) = watch.take_raised() {
+    let result = py
+        .detach(|| {
+            if inline {
+                Some(work())
+            } else {
+                run_on_pool(&call, work)
+            }
+        })
+        .unwrap_or_else(|| unreachable!("a panic of the batch is re-raised by its scope"));
+    if let Some(error) = call.take_raised() {
         return Err(error);
     }
-    if let Some(error) = raised.lock().ok().and_then(|mut slot| slot.take()) {
-        return Err(error);
-    }
-    let (stepped, outputs) = result
-        .unwrap_or_else(|| unreachable!("a panic of the batch is re-raised by its scope"))
-        .map_err(CoreError)?;
-    if let Some(progress) = &watch.progress {
-        progress.call1(py, (1.0,))?;
+    let (stepped, outputs) = result.map_err(CoreError)?;
+    if let Some(progress) = &progress {
+        progress.call1((1.0,))?;
     }
     match stepped {
         Some(times) => {
@@ -319,16 +317,16 @@ pub fn check_motion(
     omega0: PyReadonlyArrayDyn<'_, f64>,
     rotors: Option<Vec<Bound<'_, PyAny>>>,
 ) -> PyResult<()> {
-    let (omega_shape, omega_data) = dense(&omega0);
+    let (omega_shape, omega_data) = dense(&omega0)?;
     if omega_shape != [3] {
         return Err(bad_shape("omega0", "(3,)", omega_shape));
     }
     let bodies = bodies(body, None)?;
-    let raised: Raised = Arc::new(Mutex::new(None));
+    let call = Call::new(None, 1, 0.0);
     let rotors = rotors
         .unwrap_or_default()
         .iter()
-        .map(|r| rotor_spec(r, &raised))
+        .map(|r| rotor_spec(r, &call))
         .collect::<PyResult<Vec<_>>>()?;
     let omega0 = Vector3::from_column_slice(&omega_data);
     polhode::simulation::check_motion(&bodies[0], &omega0, &rotors).map_err(CoreError)?;
@@ -409,7 +407,8 @@ fn to_dict<'py>(
         (intern!(py, "evaluations"), |s| s.rhs_evaluations),
     ];
     for (name, get) in counts {
-        let values: Vec<u64> = outputs.stats.iter().map(get).collect();
+        let values =
+            memory::collect(outputs.stats.iter().map(get), Purpose::Outputs).map_err(CoreError)?;
         if single {
             stats.set_item(name, values[0])?;
         } else {

@@ -6,10 +6,12 @@ use std::sync::Arc;
 use nalgebra::Vector3;
 use numpy::PyReadonlyArrayDyn;
 use polhode::dynamics::{MotorTorque, RotorFields, RotorSpec};
+use polhode::memory::{self, Purpose};
 use pyo3::prelude::*;
 
 use crate::errors::CoreError;
-use crate::torque::{kind_of, PyFields, Raised};
+use crate::torque::{kind_of, PyFields};
+use crate::watch::Call;
 
 /// A `polhode.rotors` rotor's fields, read by name for the core (the reader of the torque
 /// models, plus the motor torque).
@@ -34,24 +36,20 @@ impl RotorFields for PyFields<'_, '_> {
     fn motor(&self, name: &str) -> PyResult<MotorTorque> {
         let value = self.obj.getattr(name)?;
         if value.is_callable() {
-            let call = self.obj.getattr("_call_torque")?.unbind();
-            let raised = Arc::clone(self.raised);
+            let method = self.obj.getattr("_call_torque")?.unbind();
+            let call = self.call.clone();
             let function = move |t: f64, w: &Vector3<f64>, rate: f64| {
-                Python::attach(|py| -> polhode::Result<f64> {
-                    let result = call
-                        .call1(py, (t, [w.x, w.y, w.z], rate))
-                        .and_then(|value| value.extract::<f64>(py));
-                    result.map_err(|error| {
-                        let message = error.to_string();
-                        if let Ok(mut slot) = raised.lock() {
-                            slot.get_or_insert(error);
-                        }
-                        polhode::Error::InvalidArgument {
-                            name: "rotors".into(),
-                            reason: format!("a wheel's torque function raised {message}"),
-                        }
-                    })
-                })
+                call.call_back(
+                    |py| {
+                        method
+                            .call1(py, (t, [w.x, w.y, w.z], rate))
+                            .and_then(|value| value.extract::<f64>(py))
+                    },
+                    |message| polhode::Error::InvalidArgument {
+                        name: "rotors".into(),
+                        reason: format!("a wheel's torque function raised {message}"),
+                    },
+                )
             };
             return Ok(MotorTorque::Function(Arc::new(function)));
         }
@@ -68,27 +66,28 @@ impl RotorFields for PyFields<'_, '_> {
                 &shape,
             ));
         }
-        let pairs: Vec<f64> = view.iter().copied().collect();
-        let times = pairs.iter().step_by(2).copied().collect();
-        let values = pairs.iter().skip(1).step_by(2).copied().collect();
+        let copy = |values: &mut dyn Iterator<Item = f64>| {
+            memory::collect(values, Purpose::Input).map_err(CoreError)
+        };
+        let times = copy(&mut view.iter().step_by(2).copied())?;
+        let values = copy(&mut view.iter().skip(1).step_by(2).copied())?;
         Ok(MotorTorque::Schedule { times, values })
     }
 }
 
 /// The spec of a `polhode.rotors` rotor, dispatched on its `kind` (its class name).
-pub(crate) fn rotor_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<RotorSpec> {
+pub(crate) fn rotor_spec(obj: &Bound<'_, PyAny>, call: &Call) -> PyResult<RotorSpec> {
     let kind = kind_of(
         obj,
         "`rotors` to hold polhode.rotors rotors (Wheel, SphericalDamper)",
     )?;
-    RotorSpec::from_fields(&kind, &PyFields { obj, raised })
+    RotorSpec::from_fields(&kind, &PyFields { obj, call })
 }
 
 /// Checks a rotor's own parameters (called by its constructor).
 #[pyfunction]
 pub fn check_rotor(rotor: &Bound<'_, PyAny>) -> PyResult<()> {
-    let raised: Raised = Arc::new(std::sync::Mutex::new(None));
-    let spec = rotor_spec(rotor, &raised)?;
+    let spec = rotor_spec(rotor, &Call::new(None, 1, 0.0))?;
     spec.check().map_err(CoreError)?;
     Ok(())
 }

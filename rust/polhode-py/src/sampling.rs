@@ -1,8 +1,6 @@
 //! `fastest_rate`: how fast a run's bodies turn, for the output times of `polhode.simulate`
 //! with an end time. Converts the arguments as `simulate` does and calls the core.
 
-use std::sync::{Arc, Mutex};
-
 use numpy::PyReadonlyArrayDyn;
 use polhode::dynamics::{Method, MethodSettings};
 use polhode::simulation::{fastest_rate as core_fastest_rate, fixed_steps, Simulation};
@@ -13,7 +11,8 @@ use crate::convert::bad_shape;
 use crate::errors::CoreError;
 use crate::motion::{bodies, dense, orientations, rows3};
 use crate::rotors::rotor_spec;
-use crate::torque::{calls_python, torque_spec, Raised};
+use crate::torque::{calls_python, torque_spec};
+use crate::watch::Call;
 
 /// The fastest rate (rad per unit time) of the motions of `body` from `omega0` at `t0` until
 /// `t_end`, with the arguments of `simulate` (one body, or N): a dict with `rate`, `pace`
@@ -43,24 +42,23 @@ pub fn fastest_rate<'py>(
     torque: Option<Bound<'py, PyAny>>,
     rotors: Option<Vec<Bound<'py, PyAny>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (omega_shape, omega_data) = dense(&omega0);
+    let (omega_shape, omega_data) = dense(&omega0)?;
     let n = match omega_shape {
         [3] => None,
         [n, 3] => Some(*n),
         _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
     };
     let bodies = bodies(body, n)?;
-    let omega0 = rows3(&omega_data);
+    let omega0 = rows3(&omega_data)?;
     let orientation0 = orientations(orientation0)?;
-    let raised: Raised = Arc::new(Mutex::new(None));
-    let spec = torque
-        .as_ref()
-        .map(|t| torque_spec(t, &raised))
-        .transpose()?;
+    // Ctrl-C and the first exception of a Python torque or motor stop it as they stop
+    // `simulate` (one cancellation path: `watch::Call`).
+    let call = Call::new(None, 1, 0.0);
+    let spec = torque.as_ref().map(|t| torque_spec(t, &call)).transpose()?;
     let rotors = rotors
         .unwrap_or_default()
         .iter()
-        .map(|r| rotor_spec(r, &raised))
+        .map(|r| rotor_spec(r, &call))
         .collect::<PyResult<Vec<_>>>()?;
     let settings = MethodSettings {
         dt,
@@ -84,7 +82,7 @@ pub fn fastest_rate<'py>(
         rotors,
     };
     let rate = py.detach(|| core_fastest_rate(&run, &bodies, &omega0, &orientation0, t_end));
-    if let Some(error) = raised.lock().ok().and_then(|mut slot| slot.take()) {
+    if let Some(error) = call.take_raised() {
         return Err(error);
     }
     let rate = rate.map_err(CoreError)?;

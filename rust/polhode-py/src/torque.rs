@@ -1,7 +1,7 @@
 //! Torque models from their Python objects (`polhode.torque`), read by their named fields into
 //! the core's [`TorqueSpec`]; the core validates, builds and rotates them.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use polhode::dynamics::{Fields, FunctionSpec, TorqueSpec};
@@ -9,15 +9,14 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use crate::errors::CoreError;
-
-/// The first Python exception raised by a torque function, kept to re-raise as it was.
-pub(crate) type Raised = Arc<Mutex<Option<PyErr>>>;
+use crate::watch::Call;
 
 /// A Python model's fields (a `polhode.torque` model or a `polhode.rotors` rotor), read by
 /// name for the core: the one reader behind [`Fields`] and `RotorFields`.
 pub(crate) struct PyFields<'a, 'py> {
     pub(crate) obj: &'a Bound<'py, PyAny>,
-    pub(crate) raised: &'a Raised,
+    /// The call the model's Python functions are called back in.
+    pub(crate) call: &'a Call,
 }
 
 impl PyFields<'_, '_> {
@@ -62,40 +61,38 @@ impl Fields for PyFields<'_, '_> {
     }
 
     fn model(&self, name: &str) -> PyResult<TorqueSpec> {
-        torque_spec(&self.obj.getattr(name)?, self.raised)
+        torque_spec(&self.obj.getattr(name)?, self.call)
     }
 
     fn models(&self, name: &str) -> PyResult<Vec<TorqueSpec>> {
         let models: Vec<Bound<'_, PyAny>> = self.obj.getattr(name)?.extract()?;
-        models.iter().map(|m| torque_spec(m, self.raised)).collect()
+        models.iter().map(|m| torque_spec(m, self.call)).collect()
     }
 }
 
-/// The spec of a `polhode.torque` model, dispatched on its `kind` (its class name).
-pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<TorqueSpec> {
+/// The spec of a `polhode.torque` model, dispatched on its `kind` (its class name); its Python
+/// function, if any, is called back in `call`.
+pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, call: &Call) -> PyResult<TorqueSpec> {
     let kind = kind_of(obj, "`torque` to be a polhode.torque model or a callable")?;
     Ok(match kind.as_str() {
         "Function" => {
             // `_call(t, omega, quaternion)` calls the user's function and checks what it
-            // returned; its first exception is kept and raised as it was.
-            let call = obj.getattr("_call")?.unbind();
-            let raised = Arc::clone(raised);
+            // returned; its first exception stops the whole call and is raised as it was.
+            let method = obj.getattr("_call")?.unbind();
+            let call = call.clone();
             let function = move |t: f64, w: &Vector3<f64>, q: &UnitQuaternion<f64>| {
-                Python::attach(|py| -> polhode::Result<Vector3<f64>> {
-                    let result = call
-                        .call1(py, (t, [w.x, w.y, w.z], [q.i, q.j, q.k, q.w]))
-                        .and_then(|value| value.extract::<[f64; 3]>(py));
-                    result.map(Vector3::from).map_err(|error| {
-                        let message = error.to_string();
-                        if let Ok(mut slot) = raised.lock() {
-                            slot.get_or_insert(error);
-                        }
-                        polhode::Error::InvalidArgument {
-                            name: "torque".into(),
-                            reason: format!("the function raised {message}"),
-                        }
-                    })
-                })
+                call.call_back(
+                    |py| {
+                        method
+                            .call1(py, (t, [w.x, w.y, w.z], [q.i, q.j, q.k, q.w]))
+                            .and_then(|value| value.extract::<[f64; 3]>(py))
+                            .map(Vector3::from)
+                    },
+                    |message| polhode::Error::InvalidArgument {
+                        name: "torque".into(),
+                        reason: format!("the function raised {message}"),
+                    },
+                )
             };
             TorqueSpec::Function(FunctionSpec {
                 function: Arc::new(function),
@@ -104,7 +101,7 @@ pub(crate) fn torque_spec(obj: &Bound<'_, PyAny>, raised: &Raised) -> PyResult<T
                 discontinuities: obj.getattr("discontinuities")?.extract()?,
             })
         }
-        other => TorqueSpec::from_fields(other, &PyFields { obj, raised })?,
+        other => TorqueSpec::from_fields(other, &PyFields { obj, call })?,
     })
 }
 
@@ -121,8 +118,7 @@ pub(crate) fn calls_python(spec: &TorqueSpec) -> bool {
 /// Checks a torque model's own parameters (called by its constructor).
 #[pyfunction]
 pub fn check_torque(torque: &Bound<'_, PyAny>) -> PyResult<()> {
-    let raised: Raised = Arc::new(Mutex::new(None));
-    let spec = torque_spec(torque, &raised)?;
+    let spec = torque_spec(torque, &Call::new(None, 1, 0.0))?;
     spec.check().map_err(CoreError)?;
     Ok(())
 }

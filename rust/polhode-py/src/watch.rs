@@ -1,11 +1,15 @@
-//! The watch over a long run: Ctrl-C, [`cancel_all`] and progress, polled while the core
-//! works with the GIL released.
+//! One cancellation path per call ([`Call`]): Ctrl-C, [`cancel_all`], an exception of
+//! `progress` and the first exception of a Python callback (a torque function, a wheel's motor
+//! torque) all stop the whole call through its [`Monitor`], and the first of them is raised
+//! once the core has stopped.
 //!
 //! Every [`POLL`] of a long run, the calling thread looks for Ctrl-C (`check_signals`) and
 //! reports progress ([`Watch`]); at each look of the run, on whichever thread, the watch also
-//! compares the process-wide cancellation epoch with the one the call started in. On an
-//! exception, or once the epoch has moved, it cancels the run through its [`Monitor`] and
-//! raises once the run has stopped.
+//! compares the process-wide cancellation epoch with the one the call started in. A Python
+//! callback looks at the call before each of its calls into Python ([`Call::call_back`]): once
+//! the call is stopping it calls no more, and it checks the signals and the epoch itself, so
+//! that Ctrl-C, `cancel_all` or another callback's exception stops a run that calls Python at
+//! every step within one call, not at the next look (thousands of calls later).
 //!
 //! Python delivers signals to the main thread only: a call running on another thread (a
 //! `ThreadPoolExecutor`, dask's workers) cannot see Ctrl-C, so [`cancel_all`] is how the main
@@ -13,7 +17,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, RecvTimeoutError, TryRecvError};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
@@ -54,6 +58,76 @@ const POLL: Duration = Duration::from_millis(50);
 /// returns without the ~10 us of a sleep and a wake-up.
 const SPIN: Duration = Duration::from_micros(100);
 
+/// One call's cancellation path: the monitor the core looks at, and the watch that trips it.
+/// Cloned into the call's Python callbacks (an `Arc`).
+#[derive(Clone)]
+pub(crate) struct Call(Arc<Shared>);
+
+struct Shared {
+    monitor: Monitor,
+    watch: Watch,
+}
+
+impl Call {
+    /// A call of `n` bodies over `span` (for the fraction done), reporting to `progress`.
+    pub(crate) fn new(progress: Option<Py<PyAny>>, n: usize, span: f64) -> Self {
+        Self(Arc::new_cyclic(|shared: &std::sync::Weak<Shared>| {
+            let shared = shared.clone();
+            Shared {
+                // At each look of the run, on its thread: the watch (it holds no reference
+                // back, so the two are freed together).
+                monitor: Monitor::with_on_look(move |monitor| {
+                    if let Some(shared) = shared.upgrade() {
+                        shared.watch.poll(monitor, false);
+                    }
+                }),
+                watch: Watch::new(progress, n, span),
+            }
+        }))
+    }
+
+    /// What the core looks at.
+    pub(crate) fn monitor(&self) -> &Monitor {
+        &self.0.monitor
+    }
+
+    pub(crate) fn watch(&self) -> &Watch {
+        &self.0.watch
+    }
+
+    /// The first exception that stopped the call (Ctrl-C, `cancel_all`, `progress`, a
+    /// callback), to raise once the core has returned.
+    pub(crate) fn take_raised(&self) -> Option<PyErr> {
+        self.0.watch.take_raised()
+    }
+
+    /// Calls into Python for the core (`call(py)`), as one step of the call: nothing once the
+    /// call is stopping (the core gets [`polhode::Error::Interrupted`]); Ctrl-C and
+    /// `cancel_all` looked for first, cheaply (a flag each); an exception of `call` kept (the
+    /// first) and stopping the whole call, the core getting `failed(message)` for it (the body
+    /// whose run it stops is then the one named with the exception).
+    pub(crate) fn call_back<T>(
+        &self,
+        call: impl FnOnce(Python<'_>) -> PyResult<T>,
+        failed: impl FnOnce(String) -> polhode::Error,
+    ) -> polhode::Result<T> {
+        if self.0.monitor.is_cancelled() {
+            return Err(polhode::Error::Interrupted);
+        }
+        Python::attach(|py| {
+            if let Err(error) = self.0.watch.interrupted(py) {
+                self.0.watch.stop(&self.0.monitor, error);
+                return Err(polhode::Error::Interrupted);
+            }
+            call(py).map_err(|error| {
+                let message = error.to_string();
+                self.0.watch.stop(&self.0.monitor, error);
+                failed(message)
+            })
+        })
+    }
+}
+
 /// The watch over a run: every [`POLL`] the calling thread attaches, checks the signals
 /// (Ctrl-C raises KeyboardInterrupt there) and calls `progress(fraction)`; at every look, on
 /// any thread, the epoch of [`cancel_all`] is compared with the call's. An exception, or a
@@ -92,6 +166,17 @@ impl Watch {
             monitor.finished() as f64 / self.n as f64
         };
         done.clamp(0.0, 1.0)
+    }
+
+    /// Ctrl-C (on the main thread) or a [`cancel_all`] since the call started, as the exception
+    /// to raise: a flag each, cheap enough before every call into Python.
+    fn interrupted(&self, py: Python<'_>) -> PyResult<()> {
+        if CANCEL_EPOCH.load(Ordering::Relaxed) != self.epoch {
+            return Err(CancelledError::new_err(
+                "polhode.cancel_all() stopped this run.",
+            ));
+        }
+        py.check_signals()
     }
 
     /// Cancels the run if [`cancel_all`] was called since it started; then polls if on the
@@ -135,14 +220,14 @@ impl Watch {
 
     /// Keeps `error` to be raised (the first one, if several threads stop the run at once) and
     /// cancels the monitor.
-    fn stop(&self, monitor: &Monitor, error: PyErr) {
+    pub(crate) fn stop(&self, monitor: &Monitor, error: PyErr) {
         if let Ok(mut slot) = self.raised.lock() {
             slot.get_or_insert(error);
         }
         monitor.cancel();
     }
 
-    pub(crate) fn take_raised(&self) -> Option<PyErr> {
+    fn take_raised(&self) -> Option<PyErr> {
         self.raised.lock().ok().and_then(|mut slot| slot.take())
     }
 }
@@ -151,11 +236,8 @@ impl Watch {
 /// released, waits for it and polls `watch` every [`POLL`]: a batch's threads cannot check
 /// the signals, only the main thread can. The result comes back through a channel, so that
 /// the wait ends as soon as it is sent.
-pub(crate) fn run_on_pool<T: Send>(
-    monitor: &Monitor,
-    watch: &Watch,
-    work: impl FnOnce() -> T + Send,
-) -> Option<T> {
+pub(crate) fn run_on_pool<T: Send>(call: &Call, work: impl FnOnce() -> T + Send) -> Option<T> {
+    let (monitor, watch) = (call.monitor(), call.watch());
     rayon::in_place_scope(|scope| {
         let (sender, receiver) = sync_channel(1);
         scope.spawn(move |_| {

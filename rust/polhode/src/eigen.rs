@@ -18,6 +18,7 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::memory::{self, Purpose};
 use crate::Monitor;
 
 /// Default relative tolerance under which two principal moments count as equal.
@@ -779,27 +780,29 @@ pub fn principal_batch_monitored(
     // The first chunk known to have failed: later chunks are skipped (they cannot hold the
     // first error), earlier ones never are, so the error reported does not depend on timing.
     let first_failure = AtomicUsize::new(usize::MAX);
-    let outcomes: Vec<Result<()>> = tensors
-        .par_chunks(9 * CHUNK)
-        .zip(moments.par_chunks_mut(3 * CHUNK))
-        .zip(axes.par_chunks_mut(9 * CHUNK))
-        .zip(multiplicity.par_chunks_mut(3 * CHUNK))
-        .enumerate()
-        .map(|(chunk, (((t, m), x), u))| {
-            if chunk > first_failure.load(Ordering::Relaxed) {
-                return Ok(());
-            }
-            let outcome = match monitor {
-                Some(monitor) => monitor.look(),
-                None => Ok(()),
-            }
-            .and_then(|()| solve_chunk(t, m, x, u, rtol, chunk * CHUNK));
-            if outcome.is_err() {
-                first_failure.fetch_min(chunk, Ordering::Relaxed);
-            }
-            outcome
-        })
-        .collect();
+    let outcomes: Vec<Result<()>> = memory::collect_parallel(
+        tensors
+            .par_chunks(9 * CHUNK)
+            .zip(moments.par_chunks_mut(3 * CHUNK))
+            .zip(axes.par_chunks_mut(9 * CHUNK))
+            .zip(multiplicity.par_chunks_mut(3 * CHUNK))
+            .enumerate()
+            .map(|(chunk, (((t, m), x), u))| {
+                if chunk > first_failure.load(Ordering::Relaxed) {
+                    return Ok(());
+                }
+                let outcome = match monitor {
+                    Some(monitor) => monitor.look(),
+                    None => Ok(()),
+                }
+                .and_then(|()| solve_chunk(t, m, x, u, rtol, chunk * CHUNK));
+                if outcome.is_err() {
+                    first_failure.fetch_min(chunk, Ordering::Relaxed);
+                }
+                outcome
+            }),
+        Purpose::PrincipalAxes,
+    )?;
     // The first error in the batch's order: an interruption only if no tensor before it was bad.
     outcomes.into_iter().collect()
 }

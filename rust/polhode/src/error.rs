@@ -1,5 +1,7 @@
 //! The one error type of the core crate.
 
+use crate::memory::Purpose;
+
 /// Everything that can go wrong in the core, each variant naming the argument at fault.
 ///
 /// Messages follow the form ``Expected `name` to ..., got ...``, so that the Python layer can
@@ -79,14 +81,18 @@ pub enum Error {
     /// The run was cancelled through its [`crate::Monitor`].
     #[error("The integration was interrupted (its monitor was cancelled).")]
     Interrupted,
-    /// The outputs do not fit in memory.
+    /// Memory whose size comes from the input could not be allocated (see
+    /// [`crate::memory`]).
     #[error(
-        "The outputs take {bytes:.3e} bytes, more than this machine can allocate: ask for fewer \
-         output times or bodies, without the orientation, or in chunks (polhode.dask)."
+        "Cannot allocate {bytes:.3e} bytes for {}: {}",
+        .purpose.what(),
+        .purpose.instead()
     )]
     OutOfMemory {
-        /// The size of all the outputs.
+        /// The size of the allocation (of all the outputs, for [`Purpose::Outputs`]).
         bytes: f64,
+        /// What the memory was for.
+        purpose: Purpose,
     },
     /// The error of one body of a batch.
     #[error("body {body}: {error}")]
@@ -153,7 +159,7 @@ impl Error {
                 value,
             },
             Error::Interrupted => Error::Interrupted,
-            Error::OutOfMemory { bytes } => Error::OutOfMemory { bytes },
+            Error::OutOfMemory { bytes, purpose } => Error::OutOfMemory { bytes, purpose },
             Error::Body { body, error } => Error::Body {
                 body,
                 error: Box::new(error.map_name(f)),

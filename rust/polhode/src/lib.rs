@@ -74,7 +74,7 @@ pub mod eigen;
 mod error;
 pub mod exact;
 pub mod mass;
-mod memory;
+pub mod memory;
 mod monitor;
 pub mod series;
 pub mod settings;

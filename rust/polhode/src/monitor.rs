@@ -1,8 +1,9 @@
 //! Progress and cancellation of long computations (integrations, and the mass properties and
 //! eigensolves of large inputs): the public [`Monitor`], and each run's reports to it.
 
-use std::cell::Cell;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::cell::{Cell, RefCell};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::Arc;
 
 use crate::{Error, Result};
 
@@ -104,9 +105,11 @@ impl Monitor {
         self.cancelled.load(Ordering::Relaxed)
     }
 
-    /// `Err(Error::Interrupted)` if cancelled.
+    /// `Err(Error::Interrupted)` if cancelled, or if this thread is running a body of a batch
+    /// of [`crate::simulation::simulate`] after a body before it has failed (that body's error
+    /// is the batch's: the rest of the batch stops early, without changing its result).
     pub fn check(&self) -> Result<()> {
-        if self.is_cancelled() {
+        if self.is_cancelled() || after_a_failure() {
             Err(Error::Interrupted)
         } else {
             Ok(())
@@ -206,6 +209,7 @@ impl<'a> Progress<'a> {
     fn look(&self, t: f64) -> Result<()> {
         self.countdown.set(self.every);
         match self.monitor {
+            None if after_a_failure() => Err(Error::Interrupted),
             None => Ok(()),
             Some(monitor) => {
                 self.report(monitor, t);
@@ -238,4 +242,97 @@ impl<'a> Progress<'a> {
                 .fetch_add(u64::from(self.runs.get()), Ordering::Relaxed);
         }
     }
+}
+
+/// The first failure of a batch of bodies, by body index, shared by its runs: the one
+/// cancellation path that a body's error trips for the rest of its batch.
+///
+/// The batch's error is the first failing body's by index, whatever the order in time: so once
+/// body `i` has failed, the bodies after it can no longer change the result and stop (those not
+/// started are skipped, those running stop at their next look, through [`Monitor::check`] or a
+/// look without a monitor), while the bodies before it run on (one of them may fail first).
+/// The result is the same as if every body had run to its end, in any number of threads.
+#[derive(Debug)]
+pub(crate) struct Failures {
+    first: AtomicUsize,
+}
+
+thread_local! {
+    /// The batch whose body this thread is running, and that body (both `None` between
+    /// bodies).
+    static RUNNING: RefCell<(Option<Arc<Failures>>, Option<usize>)> =
+        const { RefCell::new((None, None)) };
+}
+
+/// Whether this thread is running a body of a batch after that batch's first failure.
+fn after_a_failure() -> bool {
+    RUNNING.with_borrow(|(batch, body)| match (batch, body) {
+        (Some(batch), Some(body)) => batch.stops(*body),
+        _ => false,
+    })
+}
+
+impl Failures {
+    /// A batch with no failure yet.
+    pub(crate) fn new() -> Arc<Self> {
+        Arc::new(Self {
+            first: AtomicUsize::new(usize::MAX),
+        })
+    }
+
+    /// Body `body` has failed.
+    pub(crate) fn fail(&self, body: usize) {
+        self.first.fetch_min(body, Ordering::Relaxed);
+    }
+
+    /// Whether body `body` comes after a body that has failed (it cannot change the result).
+    pub(crate) fn stops(&self, body: usize) -> bool {
+        body > self.first.load(Ordering::Relaxed)
+    }
+
+    /// `f()` run as body `body` of this batch on this thread: its looks stop it once a body
+    /// before it has failed. What the thread was running before (a body of this batch or of
+    /// another, which rayon may have it run inside this one) is restored afterwards, also if `f`
+    /// panics.
+    pub(crate) fn run_as<T>(self: &Arc<Self>, body: usize, f: impl FnOnce() -> T) -> T {
+        let _restore = RUNNING.with_borrow_mut(|(batch, running)| {
+            let outer = running.replace(body);
+            let batch = match batch {
+                Some(batch) if Arc::ptr_eq(batch, self) => None,
+                _ => Some(batch.replace(Arc::clone(self))),
+            };
+            Restore { batch, outer }
+        });
+        f()
+    }
+}
+
+/// What [`Failures::run_as`] restores when its body ends.
+struct Restore {
+    /// The batch the thread ran before, if another (`None`: the same batch).
+    batch: Option<Option<Arc<Failures>>>,
+    /// The body the thread ran before (`None`: none, at the top level).
+    outer: Option<usize>,
+}
+
+impl Drop for Restore {
+    fn drop(&mut self) {
+        RUNNING.with_borrow_mut(|(batch, running)| {
+            *running = self.outer;
+            // What the thread ran before is put back (at the top level, nothing): the thread
+            // keeps no batch once its bodies are done.
+            if let Some(replaced) = self.batch.take() {
+                *batch = replaced;
+            }
+        });
+    }
+}
+
+/// The batch and body this thread is running, to run part of that body's work on another
+/// thread as the same body ([`Failures::run_as`]).
+pub(crate) fn running() -> Option<(Arc<Failures>, usize)> {
+    RUNNING.with_borrow(|(batch, body)| match (batch, body) {
+        (Some(batch), Some(body)) => Some((Arc::clone(batch), *body)),
+        _ => None,
+    })
 }

@@ -944,3 +944,70 @@ fn the_fastest_rate_is_that_of_the_motion() {
     let expected = simulate(&exact, &bad, &omega, &q0, &[0.0, 1.0], None).unwrap_err();
     assert_eq!(error.to_string(), expected.to_string());
 }
+
+/// The first failing body of a batch stops the bodies after it (they cannot change the
+/// batch's error, the first by index): in parallel they stop at their next look rather than
+/// run to their end, as the bodies after it in order were never started. Body 0's torque
+/// fails at its first call; the other 15 would make `per_body` calls each.
+#[test]
+fn a_failing_body_stops_the_bodies_after_it() {
+    use polhode::dynamics::FunctionSpec;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    use std::sync::Arc;
+
+    let n = 16;
+    let bodies: Vec<Body> = (0..n)
+        .map(|i| Body::Moments(Vector3::new(1.0 + 0.1 * i as f64, 2.0, 3.0)))
+        .collect();
+    // Body 0 alone starts with omega.x = 7 (its torque fails there).
+    let omega: Vec<Vector3<f64>> = (0..n)
+        .map(|i| Vector3::new(if i == 0 { 7.0 } else { 0.1 }, 1.0, 0.2))
+        .collect();
+    let t = [0.0, 50.0];
+    let q0 = [UnitQuaternion::identity()];
+    for method in [
+        Method::Rk4 { dt: 1e-3 },
+        Method::Midpoint { dt: 1e-3 },
+        Method::Splitting {
+            dt: 1e-3,
+            order: SplittingOrder::Four,
+        },
+        Method::Dop853(Dop853Options::with_rtol(1e-13)),
+    ] {
+        let calls = Arc::new(AtomicU64::new(0));
+        let counted = Arc::clone(&calls);
+        let function = move |_: f64, w: &Vector3<f64>, _: &UnitQuaternion<f64>| {
+            if w.x == 7.0 {
+                return Err(Error::InvalidArgument {
+                    name: "torque".into(),
+                    reason: "body 0 fails".into(),
+                });
+            }
+            counted.fetch_add(1, Ordering::Relaxed);
+            Ok(Vector3::new(0.0, 0.0, 1e-3))
+        };
+        let mut run = Simulation::new(method);
+        run.torque = Some(TorqueSpec::Function(FunctionSpec {
+            function: Arc::new(function),
+            depends_on_orientation: false,
+            depends_on_omega: true,
+            discontinuities: Vec::new(),
+        }));
+        simulate(&run, &bodies[1..2], &omega[1..2], &q0, &t, None).unwrap();
+        let per_body = calls.swap(0, Ordering::Relaxed);
+        for parallel in [false, true] {
+            run.parallel = parallel;
+            let error = simulate(&run, &bodies, &omega, &q0, &t, None).unwrap_err();
+            assert!(
+                matches!(error, Error::Body { body: 0, .. }),
+                "{method:?}: {error:?}"
+            );
+            let made = calls.swap(0, Ordering::Relaxed);
+            // Running to their end, the others would make 15 per_body calls.
+            assert!(
+                made < 2 * per_body,
+                "{method:?}, parallel {parallel}: {made} calls, {per_body} a body"
+            );
+        }
+    }
+}

@@ -18,6 +18,7 @@ use super::stepper::{BodyStepper, Stepper, Vars};
 use super::system::{pack, Field, Load, NoTorque, System};
 use super::torque::{norm_of_any_size, Segment};
 use crate::exact::FreeRotation;
+use crate::memory::{self, Purpose};
 use crate::monitor::Progress;
 use crate::{Error, Result};
 
@@ -524,10 +525,13 @@ pub fn integrate_body(
     times: &[f64],
     options: &Options,
 ) -> Result<Trajectory> {
-    let mut omega = Vec::with_capacity(times.len());
-    let mut orientation = options
-        .with_orientation
-        .then(|| Vec::with_capacity(times.len()));
+    // Room for every output time: the pushes below never grow the vectors.
+    let mut omega = memory::with_capacity(times.len(), Purpose::Outputs)?;
+    let mut orientation = if options.with_orientation {
+        Some(memory::with_capacity(times.len(), Purpose::Outputs)?)
+    } else {
+        None
+    };
     let stats = run_body(method, body, state0, times, options, &mut |_, w, q| {
         omega.push(*w);
         if let (Some(list), Some(q)) = (orientation.as_mut(), q) {

@@ -43,6 +43,7 @@ use super::stepper::Stepper;
 use super::system::System;
 use super::torque::{unit_vector, Segment, Torque};
 use crate::error::{finite, positive, Short};
+use crate::memory::{self, Purpose};
 use crate::{Error, Result};
 
 /// The largest number of rotor variables (a wheel has one, a damper three).
@@ -638,10 +639,14 @@ pub fn integrate_gyrostat(
     times: &[f64],
     options: &Options,
 ) -> Result<GyrostatTrajectory> {
+    // Room for every output time: the pushes below never grow the vectors.
+    let variables = times.len().checked_mul(gyrostat.variables).ok_or_else(|| {
+        Purpose::Outputs.error(times.len() as f64 * gyrostat.variables as f64 * 8.0)
+    })?;
     let mut out = GyrostatTrajectory {
-        omega: Vec::with_capacity(times.len()),
-        orientation: Vec::with_capacity(times.len()),
-        variables: Vec::with_capacity(times.len() * gyrostat.variables),
+        omega: memory::with_capacity(times.len(), Purpose::Outputs)?,
+        orientation: memory::with_capacity(times.len(), Purpose::Outputs)?,
+        variables: memory::with_capacity(variables, Purpose::Outputs)?,
         stats: Stats::default(),
     };
     out.stats = run_gyrostat(

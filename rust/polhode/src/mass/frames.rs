@@ -5,6 +5,7 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use crate::error::{finite, Error, Result};
+use crate::memory::{self, Purpose};
 use crate::Monitor;
 
 /// Points per parallel chunk of [`point_masses_inertia`] (whole frames; at least one frame):
@@ -127,39 +128,42 @@ pub fn point_masses_inertia_monitored<P: Position>(
         total,
     };
     let per_chunk = (FRAME_POINTS_CHUNK / n).max(1);
-    let outcomes: Vec<Result<()>> = positions
-        .par_chunks(per_chunk * n)
-        .zip(inertia.par_chunks_mut(per_chunk * 9))
-        .enumerate()
-        .map(|(chunk, (points, out))| {
-            if let Some(monitor) = monitor {
-                monitor.look()?;
-            }
-            let mut offsets = Offsets::default();
-            for (j, (frame, tensor)) in points.chunks(n).zip(out.chunks_mut(9)).enumerate() {
-                let t = chunk * per_chunk + j;
-                let c = frame_second_moment(&masses, frame, t, &mut offsets)?;
-                // I = tr(C) 1 - C with each diagonal element the sum of the two other second
-                // moments (not tr(C) - C_kk, which loses a needle's small moment).
-                let values = [
-                    c[3] + c[5],
-                    -c[1],
-                    -c[2],
-                    -c[1],
-                    c[0] + c[5],
-                    -c[4],
-                    -c[2],
-                    -c[4],
-                    c[0] + c[3],
-                ];
-                if !values.iter().all(|x| x.is_finite()) {
-                    return Err(frame_overflow(t));
+    let outcomes: Vec<Result<()>> = memory::collect_parallel(
+        positions
+            .par_chunks(per_chunk * n)
+            .zip(inertia.par_chunks_mut(per_chunk * 9))
+            .enumerate()
+            .map(|(chunk, (points, out))| {
+                if let Some(monitor) = monitor {
+                    monitor.look()?;
                 }
-                tensor.copy_from_slice(&values);
-            }
-            Ok(())
-        })
-        .collect();
+                // The blocks' buffers, reused from frame to frame of the chunk.
+                let mut block = Block::new(n)?;
+                for (j, (frame, tensor)) in points.chunks(n).zip(out.chunks_mut(9)).enumerate() {
+                    let t = chunk * per_chunk + j;
+                    let c = frame_second_moment(&masses, frame, t, &mut block)?;
+                    // I = tr(C) 1 - C with each diagonal element the sum of the two other second
+                    // moments (not tr(C) - C_kk, which loses a needle's small moment).
+                    let values = [
+                        c[3] + c[5],
+                        -c[1],
+                        -c[2],
+                        -c[1],
+                        c[0] + c[5],
+                        -c[4],
+                        -c[2],
+                        -c[4],
+                        c[0] + c[3],
+                    ];
+                    if !values.iter().all(|x| x.is_finite()) {
+                        return Err(frame_overflow(t));
+                    }
+                    tensor.copy_from_slice(&values);
+                }
+                Ok(())
+            }),
+        Purpose::FrameTensors,
+    )?;
     outcomes.into_iter().collect()
 }
 
@@ -174,16 +178,56 @@ struct Masses<'a> {
 /// and the lanes are added in order, so the result depends on nothing but the input.
 const LANES: usize = 8;
 
-/// A frame's offsets from its first point, coordinate by coordinate, then from its centre of
-/// mass, and the same times the masses (buffers reused from frame to frame of a chunk).
-#[derive(Default)]
-struct Offsets {
+/// Points per block of a frame: the offsets are made a block at a time, in six vectors of at
+/// most this many doubles per thread (768 KiB, within the L2 cache), so that a frame of any size
+/// needs a bounded working memory (six vectors of the whole frame per thread took 1.4 GB for a
+/// frame of 3e7 points, and ran 10x slower out of cache). A frame of at most this many points
+/// (every molecule) is one block, its offsets made once. A multiple of [`LANES`]: the lanes of
+/// every block but the last are full, so each lane adds the same products in the same order as
+/// over the whole frame at once.
+const BLOCK: usize = 1 << 14;
+
+/// A block's offsets from the frame's first point, coordinate by coordinate, then from its
+/// centre of mass, and the same times the masses (buffers reused from frame to frame of a
+/// chunk).
+struct Block {
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
     mx: Vec<f64>,
     my: Vec<f64>,
     mz: Vec<f64>,
+}
+
+impl Block {
+    /// Buffers for the blocks of frames of `n` points.
+    fn new(n: usize) -> Result<Self> {
+        let buffer = || memory::zeros::<f64>(n.min(BLOCK), Purpose::FrameTensors);
+        Ok(Self {
+            x: buffer()?,
+            y: buffer()?,
+            z: buffer()?,
+            mx: buffer()?,
+            my: buffer()?,
+            mz: buffer()?,
+        })
+    }
+
+    /// The offsets of `points` (at most [`BLOCK`]) from `origin`.
+    #[inline(always)]
+    fn offsets<P: Position>(&mut self, points: &[P], origin: [f64; 3]) {
+        for (((&p, x), y), z) in points
+            .iter()
+            .zip(&mut self.x)
+            .zip(&mut self.y)
+            .zip(&mut self.z)
+        {
+            let p = p.xyz();
+            *x = p[0] - origin[0];
+            *y = p[1] - origin[1];
+            *z = p[2] - origin[2];
+        }
+    }
 }
 
 /// The second moments `sum m c c^T` of one frame about its centre of mass, as the six numbers
@@ -196,32 +240,9 @@ fn frame_second_moment<P: Position>(
     masses: &Masses<'_>,
     frame: &[P],
     t: usize,
-    offsets: &mut Offsets,
+    block: &mut Block,
 ) -> Result<[f64; 6]> {
-    let origin = frame[0].xyz();
-    let n = frame.len();
-    for v in [
-        &mut offsets.x,
-        &mut offsets.y,
-        &mut offsets.z,
-        &mut offsets.mx,
-        &mut offsets.my,
-        &mut offsets.mz,
-    ] {
-        v.resize(n, 0.0);
-    }
-    for (((&p, x), y), z) in frame
-        .iter()
-        .zip(&mut offsets.x)
-        .zip(&mut offsets.y)
-        .zip(&mut offsets.z)
-    {
-        let p = p.xyz();
-        *x = p[0] - origin[0];
-        *y = p[1] - origin[1];
-        *z = p[2] - origin[2];
-    }
-    let (first, c) = moments(masses.values, masses.total, offsets);
+    let (first, c) = moments(masses.values, masses.total, frame, block);
     if !first.iter().all(|x| x.is_finite()) {
         return Err(bad_frame(frame, t));
     }
@@ -231,46 +252,80 @@ fn frame_second_moment<P: Position>(
 /// The first moment about the first point and the second moments about the centre of mass,
 /// with the widest vector instructions the CPU has (`crate::simd::dispatch`: the same IEEE
 /// operations either way, so the result does not depend on it).
-fn moments(masses: &[f64], total: f64, offsets: &mut Offsets) -> ([f64; 3], [f64; 6]) {
+fn moments<P: Position>(
+    masses: &[f64],
+    total: f64,
+    frame: &[P],
+    block: &mut Block,
+) -> ([f64; 3], [f64; 6]) {
     crate::simd::dispatch(
         #[inline(always)]
-        || moments_generic(masses, total, offsets),
+        || moments_generic(masses, total, frame, block),
     )
 }
 
+/// Two passes over the frame, a [`BLOCK`] of points at a time, each dot product in [`LANES`]
+/// partial sums carried from block to block: the numbers of the same sums over the whole frame.
+/// A frame of one block (the common case: a molecule's atoms) makes its offsets once.
 #[inline(always)]
-fn moments_generic(m: &[f64], total: f64, o: &mut Offsets) -> ([f64; 3], [f64; 6]) {
+fn moments_generic<P: Position>(
+    m: &[f64],
+    total: f64,
+    frame: &[P],
+    b: &mut Block,
+) -> ([f64; 3], [f64; 6]) {
+    let origin = frame[0].xyz();
+    let one_block = frame.len() <= BLOCK;
+    if one_block {
+        b.offsets(frame, origin);
+    }
     // Pass 1: the first moment about the first point.
-    let first = [dot(m, &o.x), dot(m, &o.y), dot(m, &o.z)];
+    let mut first = [[0.0f64; LANES]; 3];
+    for (points, m) in frame.chunks(BLOCK).zip(m.chunks(BLOCK)) {
+        let len = points.len();
+        if !one_block {
+            b.offsets(points, origin);
+        }
+        add_products(&mut first[0], m, &b.x[..len]);
+        add_products(&mut first[1], m, &b.y[..len]);
+        add_products(&mut first[2], m, &b.z[..len]);
+    }
+    let first = first.map(|sums| sums.iter().sum::<f64>());
     let center = first.map(|v| v / total);
     // Pass 2: the centred offsets, times the masses, and the six sums (m x) y.
-    for (v, mv, c) in [
-        (&mut o.x, &mut o.mx, center[0]),
-        (&mut o.y, &mut o.my, center[1]),
-        (&mut o.z, &mut o.mz, center[2]),
-    ] {
-        for ((v, mv), &m) in v.iter_mut().zip(mv.iter_mut()).zip(m) {
-            *v -= c;
-            *mv = m * *v;
+    let mut c = [[0.0f64; LANES]; 6];
+    for (points, m) in frame.chunks(BLOCK).zip(m.chunks(BLOCK)) {
+        let len = points.len();
+        if !one_block {
+            b.offsets(points, origin);
         }
+        for (v, mv, c) in [
+            (&mut b.x, &mut b.mx, center[0]),
+            (&mut b.y, &mut b.my, center[1]),
+            (&mut b.z, &mut b.mz, center[2]),
+        ] {
+            for ((v, mv), &m) in v[..len].iter_mut().zip(&mut mv[..len]).zip(m) {
+                *v -= c;
+                *mv = m * *v;
+            }
+        }
+        add_products(&mut c[0], &b.mx[..len], &b.x[..len]);
+        add_products(&mut c[1], &b.mx[..len], &b.y[..len]);
+        add_products(&mut c[2], &b.mx[..len], &b.z[..len]);
+        add_products(&mut c[3], &b.my[..len], &b.y[..len]);
+        add_products(&mut c[4], &b.my[..len], &b.z[..len]);
+        add_products(&mut c[5], &b.mz[..len], &b.z[..len]);
     }
-    let c = [
-        dot(&o.mx, &o.x),
-        dot(&o.mx, &o.y),
-        dot(&o.mx, &o.z),
-        dot(&o.my, &o.y),
-        dot(&o.my, &o.z),
-        dot(&o.mz, &o.z),
-    ];
-    (first, c)
+    (first, c.map(|sums| sums.iter().sum::<f64>()))
 }
 
-/// `sum a_i b_i` in [`LANES`] partial sums, added in order at the end.
+/// `sums[i mod LANES] += a_i b_i` over `a` in order, the rest of the division by [`LANES`] to
+/// lane 0 after the full lanes (only a frame's last block has one); the lanes are added in
+/// order at the end, by the caller.
 #[inline(always)]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+fn add_products(sums: &mut [f64; LANES], a: &[f64], b: &[f64]) {
     let (a_lanes, a_rest) = a.as_chunks::<LANES>();
     let (b_lanes, b_rest) = b[..a.len()].as_chunks::<LANES>();
-    let mut sums = [0.0f64; LANES];
     for (a, b) in a_lanes.iter().zip(b_lanes) {
         for l in 0..LANES {
             sums[l] += a[l] * b[l];
@@ -279,7 +334,6 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     for (a, b) in a_rest.iter().zip(b_rest) {
         sums[0] += a * b;
     }
-    sums.iter().sum()
 }
 
 /// The error for frame `t` whose sums are not finite: its first non-finite coordinate, or else

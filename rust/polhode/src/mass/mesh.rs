@@ -23,6 +23,7 @@ use super::factor::SecondMoment;
 use super::{invalid, look, out_of_range, renormalised, two_sum, MassProperties, OutOfRange};
 use crate::eigen::{self, exponent, ldexp, scientific};
 use crate::error::{positive, Error, Result};
+use crate::memory::{self, Purpose};
 use crate::Monitor;
 
 /// Triangles per parallel chunk of the integrals (a multiple of `LANES * BLOCK`): the chunks
@@ -325,7 +326,7 @@ fn integrate(
     // them, in units of their extent (so that neither the differences nor their sum overflow).
     // A vertex no face uses (common in files) must not move the reference or the scale: one
     // unused vertex at 1e8 moved the centre of mass of a unit cube by 3e-3.
-    let mut used = vec![false; vertices.len()];
+    let mut used = memory::zeros::<bool>(vertices.len(), Purpose::Mesh)?;
     for f in faces {
         for &i in f {
             used[i as usize] = true;
@@ -353,7 +354,7 @@ fn integrate(
         return Ok(None);
     }
     let e = exponent(extent);
-    let spreads: Vec<Vector3<f64>> = vertices
+    let spreads = vertices
         .par_chunks(CHUNK)
         .zip(used.par_chunks(CHUNK))
         .map(|(chunk, used)| {
@@ -367,8 +368,8 @@ fn integrate(
                         acc
                     }
                 })
-        })
-        .collect();
+        });
+    let spreads = memory::collect_parallel(spreads, Purpose::Mesh)?;
     let spread = spreads.iter().fold(Vector3::zeros(), |acc, s| acc + s);
     let reference = anchor + (spread / count as f64).map(|x| ldexp(x, e));
     // |v - reference| <= 2 extent: vertices in units of 2^k have entries of size <= 1.
@@ -384,7 +385,7 @@ fn integrate(
         reference_scaled[1],
         reference_scaled[2],
     ];
-    let mut points = vec![[0.0; 3]; vertices.len()];
+    let mut points = memory::zeros::<[f64; 3]>(vertices.len(), Purpose::Mesh)?;
     points
         .par_chunks_mut(CHUNK)
         .zip(vertices.par_chunks(CHUNK))
@@ -401,23 +402,21 @@ fn integrate(
             );
         });
 
-    let chunks: Vec<Result<LaneSums>> = faces
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            look(monitor)?;
-            Ok(if shell {
-                crate::simd::dispatch(
-                    #[inline(always)]
-                    || chunk_sums::<true>(&points, chunk),
-                )
-            } else {
-                crate::simd::dispatch(
-                    #[inline(always)]
-                    || chunk_sums::<false>(&points, chunk),
-                )
-            })
+    let chunks = faces.par_chunks(CHUNK).map(|chunk| {
+        look(monitor)?;
+        Ok(if shell {
+            crate::simd::dispatch(
+                #[inline(always)]
+                || chunk_sums::<true>(&points, chunk),
+            )
+        } else {
+            crate::simd::dispatch(
+                #[inline(always)]
+                || chunk_sums::<false>(&points, chunk),
+            )
         })
-        .collect();
+    });
+    let chunks: Vec<Result<LaneSums>> = memory::collect_parallel(chunks, Purpose::Mesh)?;
     // The chunks in order, lane by lane; then the lanes in order.
     let mut lanes = [Sums::ZERO; LANES];
     for chunk in chunks {

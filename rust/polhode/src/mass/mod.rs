@@ -26,7 +26,7 @@ use std::ops::Add;
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::eigen::{self, ldexp, scientific, Principal, DEFAULT_RTOL};
+use crate::eigen::{self, exponent, ldexp, scientific, Principal, DEFAULT_RTOL};
 use crate::error::{finite, positive, Error, Result};
 use crate::settings::Setting;
 use factor::SecondMoment;
@@ -482,11 +482,17 @@ impl MassProperties {
     pub fn kinetic_energy(&self, omega: &Vector3<f64>) -> Result<f64> {
         finite_vector("omega", omega)?;
         let (s, k) = self.second_moment.normalised();
+        // omega in units of 2^e, its largest component in [0.5, 1): the squares are formed in
+        // the normal range (an omega of 1e-158 squared to subnormals, losing hundreds of their
+        // units once scaled back; one of 1e160 overflowed), and the scale is applied once, at
+        // the end, exactly (a power of two), rounding only a result below the normal range.
+        let e = exponent(omega.amax());
+        let omega = omega.map(|x| ldexp(x, -e));
         let mut sum = 2.0 * s.isotropic * omega.norm_squared();
         for row in s.factor.row_iter() {
-            sum += row.transpose().cross(omega).norm_squared();
+            sum += row.transpose().cross(&omega).norm_squared();
         }
-        let energy = 0.5 * ldexp(sum, 2 * k);
+        let energy = ldexp(sum, 2 * (k + e) - 1);
         if !energy.is_finite() {
             return Err(overflows("omega", "kinetic energy"));
         }

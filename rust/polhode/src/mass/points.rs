@@ -7,6 +7,7 @@ use super::factor::{RowAccumulator, SecondMoment};
 use super::MassProperties;
 use crate::eigen::{exponent, ldexp};
 use crate::error::{finite, Error, Result};
+use crate::memory::{self, Purpose};
 use crate::Monitor;
 
 /// Points per parallel chunk: each chunk is factored on its own and the factors combined, in
@@ -84,23 +85,25 @@ impl MassProperties {
         let reference = block_center(masses, positions);
         // One pass, per chunk: the first bad point, the sums about the reference, the largest
         // mass and offset, and the factor of the rows [sqrt(m), sqrt(m) (r - r0)].
-        let chunks: Vec<Result<(Scan, [[f64; 4]; 4])>> = masses
-            .par_chunks(CHUNK)
-            .zip(positions.par_chunks(CHUNK))
-            .enumerate()
-            .map(|(chunk, (m, r))| {
-                look()?;
-                crate::simd::dispatch(
-                    #[inline(always)]
-                    || match gram_schmidt_chunk(m, r, &reference) {
-                        Some(done) => Ok(done),
-                        // A bad point, or numbers near the ends of the range: the chunk again
-                        // by scaled Householder QR (which also names the first bad point).
-                        None => one_pass_chunk(m, r, &reference, chunk * CHUNK),
-                    },
-                )
-            })
-            .collect();
+        let chunks: Vec<Result<(Scan, [[f64; 4]; 4])>> = memory::collect_parallel(
+            masses
+                .par_chunks(CHUNK)
+                .zip(positions.par_chunks(CHUNK))
+                .enumerate()
+                .map(|(chunk, (m, r))| {
+                    look()?;
+                    crate::simd::dispatch(
+                        #[inline(always)]
+                        || match gram_schmidt_chunk(m, r, &reference) {
+                            Some(done) => Ok(done),
+                            // A bad point, or numbers near the ends of the range: the chunk again
+                            // by scaled Householder QR (which also names the first bad point).
+                            None => one_pass_chunk(m, r, &reference, chunk * CHUNK),
+                        },
+                    )
+                }),
+            Purpose::PointMasses,
+        )?;
         let mut total = Scan::default();
         let mut qr = Qr4::new();
         for chunk in chunks {
@@ -698,32 +701,34 @@ fn scan<P>(
 where
     P: Copy + Sync + Into<Vector3<f64>>,
 {
-    let scans: Vec<Result<Scan>> = masses
-        .par_chunks(CHUNK)
-        .zip(positions.par_chunks(CHUNK))
-        .enumerate()
-        .map(|(chunk, (m, r))| {
-            look()?;
-            let mut scan = Scan::default();
-            for (j, (&mi, &ri)) in m.iter().zip(r).enumerate() {
-                let ri: Vector3<f64> = ri.into();
-                if !(mi.is_finite()
-                    && mi > 0.0
-                    && ri[0].is_finite()
-                    && ri[1].is_finite()
-                    && ri[2].is_finite())
-                {
-                    return Err(bad_point(chunk * CHUNK + j, mi, &ri));
+    let scans: Vec<Result<Scan>> = memory::collect_parallel(
+        masses
+            .par_chunks(CHUNK)
+            .zip(positions.par_chunks(CHUNK))
+            .enumerate()
+            .map(|(chunk, (m, r))| {
+                look()?;
+                let mut scan = Scan::default();
+                for (j, (&mi, &ri)) in m.iter().zip(r).enumerate() {
+                    let ri: Vector3<f64> = ri.into();
+                    if !(mi.is_finite()
+                        && mi > 0.0
+                        && ri[0].is_finite()
+                        && ri[1].is_finite()
+                        && ri[2].is_finite())
+                    {
+                        return Err(bad_point(chunk * CHUNK + j, mi, &ri));
+                    }
+                    let d = ri - reference;
+                    scan.mass += mi;
+                    scan.first += d * mi;
+                    scan.heaviest = scan.heaviest.max(mi);
+                    scan.farthest = scan.farthest.max(d.amax());
                 }
-                let d = ri - reference;
-                scan.mass += mi;
-                scan.first += d * mi;
-                scan.heaviest = scan.heaviest.max(mi);
-                scan.farthest = scan.farthest.max(d.amax());
-            }
-            Ok(scan)
-        })
-        .collect();
+                Ok(scan)
+            }),
+        Purpose::PointMasses,
+    )?;
     let mut total = Scan::default();
     for scan in scans {
         let scan = scan?;
@@ -748,20 +753,22 @@ where
     P: Copy + Sync + Into<Vector3<f64>>,
 {
     // Pass 2, per chunk: the same sums, scaled, added in order.
-    let sums: Vec<Result<(f64, Vector3<f64>)>> = masses
-        .par_chunks(CHUNK)
-        .zip(positions.par_chunks(CHUNK))
-        .map(|(m, r)| {
-            look()?;
-            Ok(m.iter()
-                .zip(r)
-                .fold((0.0, Vector3::zeros()), |(sm, sr), (&mi, ri)| {
-                    let mi = ldexp(mi, -a);
-                    let di = ((*ri).into() - reference).map(|x| ldexp(x, -b));
-                    (sm + mi, sr + di * mi)
-                }))
-        })
-        .collect();
+    let sums: Vec<Result<(f64, Vector3<f64>)>> = memory::collect_parallel(
+        masses
+            .par_chunks(CHUNK)
+            .zip(positions.par_chunks(CHUNK))
+            .map(|(m, r)| {
+                look()?;
+                Ok(m.iter()
+                    .zip(r)
+                    .fold((0.0, Vector3::zeros()), |(sm, sr), (&mi, ri)| {
+                        let mi = ldexp(mi, -a);
+                        let di = ((*ri).into() - reference).map(|x| ldexp(x, -b));
+                        (sm + mi, sr + di * mi)
+                    }))
+            }),
+        Purpose::PointMasses,
+    )?;
     let (mut mass, mut first_moment) = (0.0, Vector3::zeros());
     for sum in sums {
         let (m, r) = sum?;
@@ -784,29 +791,31 @@ fn centred_factor<P>(
 where
     P: Copy + Sync + Into<Vector3<f64>>,
 {
-    let factors: Vec<Result<Matrix3<f64>>> = masses
-        .par_chunks(CHUNK)
-        .zip(positions.par_chunks(CHUNK))
-        .map(|(m, r)| {
-            look()?;
-            let mut acc = RowAccumulator::new();
-            if (a, b) == (0, 0) {
-                for (&mi, ri) in m.iter().zip(r) {
-                    let ri: Vector3<f64> = (*ri).into();
-                    let d = ((ri - scaled_center) - scaled_low) * mi.sqrt();
-                    acc.push([d[0], d[1], d[2]]);
+    let factors: Vec<Result<Matrix3<f64>>> = memory::collect_parallel(
+        masses
+            .par_chunks(CHUNK)
+            .zip(positions.par_chunks(CHUNK))
+            .map(|(m, r)| {
+                look()?;
+                let mut acc = RowAccumulator::new();
+                if (a, b) == (0, 0) {
+                    for (&mi, ri) in m.iter().zip(r) {
+                        let ri: Vector3<f64> = (*ri).into();
+                        let d = ((ri - scaled_center) - scaled_low) * mi.sqrt();
+                        acc.push([d[0], d[1], d[2]]);
+                    }
+                } else {
+                    for (&mi, ri) in m.iter().zip(r) {
+                        let ri: Vector3<f64> = (*ri).into();
+                        let d = (ri.map(|x| ldexp(x, -b)) - scaled_center) - scaled_low;
+                        let d = d * ldexp(mi, -a).sqrt();
+                        acc.push([d[0], d[1], d[2]]);
+                    }
                 }
-            } else {
-                for (&mi, ri) in m.iter().zip(r) {
-                    let ri: Vector3<f64> = (*ri).into();
-                    let d = (ri.map(|x| ldexp(x, -b)) - scaled_center) - scaled_low;
-                    let d = d * ldexp(mi, -a).sqrt();
-                    acc.push([d[0], d[1], d[2]]);
-                }
-            }
-            Ok(acc.finish())
-        })
-        .collect();
+                Ok(acc.finish())
+            }),
+        Purpose::PointMasses,
+    )?;
     let mut acc = RowAccumulator::new();
     for factor in factors {
         acc.push_matrix(&factor?);

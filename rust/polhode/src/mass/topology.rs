@@ -35,6 +35,7 @@ use rayon::prelude::*;
 use super::{invalid, look, MESH_CHUNK};
 use crate::eigen::ldexp;
 use crate::error::Result;
+use crate::memory::{self, Purpose};
 use crate::Monitor;
 
 /// log2 of the tolerance (relative to the bounding-box diagonal) within which vertices are one
@@ -72,7 +73,7 @@ fn scan(
     monitor: Option<&Monitor>,
 ) -> Result<Closure> {
     let edges = |f: &[i64; 3]| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])];
-    let mut offsets = vec![0u32; vertex_count + 1];
+    let mut offsets = memory::zeros::<u32>(vertex_count + 1, Purpose::Mesh)?;
     for block in faces.chunks(MESH_CHUNK) {
         look(monitor)?;
         for f in block {
@@ -84,8 +85,8 @@ fn scan(
     for i in 0..vertex_count {
         offsets[i + 1] += offsets[i];
     }
-    let mut cursor = offsets.clone();
-    let mut entries = vec![0u32; 3 * faces.len()];
+    let mut cursor = memory::copied(&offsets, Purpose::Mesh)?;
+    let mut entries = memory::zeros::<u32>(3 * faces.len(), Purpose::Mesh)?;
     for block in faces.chunks(MESH_CHUNK) {
         look(monitor)?;
         for f in block {
@@ -152,7 +153,7 @@ fn scan(
                         if !(i + 1 < bucket.len() && bucket[i + 1] >> 1 == key >> 1)
                             && (collect || unpaired.is_empty())
                         {
-                            unpaired.push(directed(key));
+                            memory::push(&mut unpaired, directed(key), Purpose::Mesh)?;
                         }
                         i += 1;
                     }
@@ -173,7 +174,7 @@ fn scan(
     for part in found {
         let (repeated, unpaired) = part?;
         closure.repeated = closure.repeated.or(repeated);
-        closure.unpaired.extend(unpaired);
+        memory::extend(&mut closure.unpaired, &unpaired, Purpose::Mesh)?;
     }
     Ok(closure)
 }
@@ -207,8 +208,9 @@ pub(crate) fn merge_exact(vertices: &[[f64; 3]], monitor: Option<&Monitor>) -> R
     let n = vertices.len();
     let bits = (2 * n).max(16).next_power_of_two().trailing_zeros();
     let mask = (1usize << bits) - 1;
-    let mut table = vec![EMPTY; 1 << bits];
-    let mut first = Vec::with_capacity(n);
+    let mut table = memory::filled(1 << bits, EMPTY, Purpose::Mesh)?;
+    // Room for one entry per vertex: the pushes below never grow it.
+    let mut first = memory::with_capacity(n, Purpose::Mesh)?;
     for (b, block) in vertices.chunks(MESH_CHUNK).enumerate() {
         look(monitor)?;
         for (k, v) in block.iter().enumerate() {
@@ -278,15 +280,20 @@ pub fn merge_vertices(
         }
     }
     let first = merge_exact(vertices, monitor)?;
-    let mut number = vec![u32::MAX; n];
-    let mut merged = Vec::new();
+    let mut number = memory::filled(n, u32::MAX, Purpose::MergedMesh)?;
+    let kept = first
+        .iter()
+        .enumerate()
+        .filter(|&(i, &f)| f as usize == i)
+        .count();
+    let mut merged = memory::with_capacity(kept, Purpose::MergedMesh)?;
     for (i, &f) in first.iter().enumerate() {
         if f as usize == i {
             number[i] = merged.len() as u32;
             merged.push(vertices[i]);
         }
     }
-    let mut out = Vec::with_capacity(faces.len());
+    let mut out = memory::with_capacity(faces.len(), Purpose::MergedMesh)?;
     for block in faces.chunks(MESH_CHUNK) {
         look(monitor)?;
         for f in block {
@@ -305,7 +312,7 @@ fn renumbered(
     into: &[u32],
     monitor: Option<&Monitor>,
 ) -> Result<Vec<[i64; 3]>> {
-    let mut out = Vec::with_capacity(faces.len());
+    let mut out = memory::with_capacity(faces.len(), Purpose::Mesh)?;
     for block in faces.chunks(MESH_CHUNK) {
         look(monitor)?;
         for f in block {
@@ -353,8 +360,8 @@ pub fn weld_tolerance(diagonal: f64) -> f64 {
 struct Classes(Vec<u32>);
 
 impl Classes {
-    fn new(n: usize) -> Self {
-        Self((0..n as u32).collect())
+    fn new(n: usize) -> Result<Self> {
+        Ok(Self(memory::collect(0..n as u32, Purpose::Mesh)?))
     }
 
     fn find(&mut self, mut i: u32) -> u32 {
@@ -385,10 +392,8 @@ fn weld(
     tolerance: f64,
     monitor: Option<&Monitor>,
 ) -> Result<()> {
-    let mut boundary: Vec<u32> = unpaired
-        .iter()
-        .flat_map(|&(u, v)| [u as u32, v as u32])
-        .collect();
+    let mut boundary: Vec<u32> = memory::with_capacity(2 * unpaired.len(), Purpose::Mesh)?;
+    boundary.extend(unpaired.iter().flat_map(|&(u, v)| [u as u32, v as u32]));
     boundary.sort_unstable();
     boundary.dedup();
     // Cells of twice the tolerance: vertices within it of each other are in the same or
@@ -398,14 +403,14 @@ fn weld(
         let v = vertices[i as usize];
         std::array::from_fn(|a| ((v[a] - corner[a]) / cell).floor() as i64)
     };
-    let mut order: Vec<([i64; 3], u32)> = boundary.iter().map(|&i| (key(i), i)).collect();
+    let mut order = memory::collect(boundary.iter().map(|&i| (key(i), i)), Purpose::Mesh)?;
     look(monitor)?;
     order.par_sort_unstable();
     let close = |i: u32, j: u32| {
         let (a, b) = (vertices[i as usize], vertices[j as usize]);
         (0..3).all(|k| (a[k] - b[k]).abs() <= tolerance)
     };
-    let mut classes = Classes::new(order.len());
+    let mut classes = Classes::new(order.len())?;
     for (c, chunk) in order.chunks(MESH_CHUNK).enumerate() {
         look(monitor)?;
         for (k, &(cell, i)) in chunk.iter().enumerate() {
@@ -430,12 +435,12 @@ fn weld(
         }
     }
     // Each class named by its smallest vertex index.
-    let mut smallest = vec![u32::MAX; order.len()];
+    let mut smallest = memory::filled(order.len(), u32::MAX, Purpose::Mesh)?;
     for (j, &(_, i)) in order.iter().enumerate() {
         let r = classes.find(j as u32) as usize;
         smallest[r] = smallest[r].min(i);
     }
-    let mut welded = vec![0u32; boundary.len()];
+    let mut welded = memory::zeros::<u32>(boundary.len(), Purpose::Mesh)?;
     for (j, &(_, i)) in order.iter().enumerate() {
         let r = classes.find(j as u32) as usize;
         welded[boundary
@@ -486,18 +491,19 @@ struct Boundary {
     longest: (usize, f64, f64, u64),
 }
 
-fn boundary(vertices: &[[f64; 3]], unpaired: &[(u64, u64)]) -> Boundary {
-    let mut ends: Vec<u64> = unpaired.iter().flat_map(|&(u, v)| [u, v]).collect();
+fn boundary(vertices: &[[f64; 3]], unpaired: &[(u64, u64)]) -> Result<Boundary> {
+    let mut ends: Vec<u64> = memory::with_capacity(2 * unpaired.len(), Purpose::Mesh)?;
+    ends.extend(unpaired.iter().flat_map(|&(u, v)| [u, v]));
     ends.sort_unstable();
     ends.dedup();
     let local = |i: u64| ends.binary_search(&i).unwrap_or_else(|_| unreachable!()) as u32;
-    let mut classes = Classes::new(ends.len());
+    let mut classes = Classes::new(ends.len())?;
     for &(u, v) in unpaired {
         classes.join(local(u), local(v));
     }
     // Per loop (named by its smallest local vertex): edges, length, vector area about that
     // vertex (the loop's area vector does not depend on the point for a closed loop).
-    let mut loops: Vec<(usize, f64, [f64; 3])> = vec![(0, 0.0, [0.0; 3]); ends.len()];
+    let mut loops = memory::filled(ends.len(), (0usize, 0.0, [0.0; 3]), Purpose::Mesh)?;
     let mut length = 0.0;
     for &(u, v) in unpaired {
         let root = classes.find(local(u)) as usize;
@@ -527,12 +533,12 @@ fn boundary(vertices: &[[f64; 3]], unpaired: &[(u64, u64)]) -> Boundary {
             longest = (edges, l, width, ends[root]);
         }
     }
-    Boundary {
+    Ok(Boundary {
         loops: count,
         edges: unpaired.len(),
         length,
         longest,
-    }
+    })
 }
 
 /// A solid mesh closed and consistently wound, vertices at the same position or within
@@ -591,7 +597,7 @@ pub(super) fn check_closed(
             ),
         ));
     }
-    let b = boundary(vertices, &closure.unpaired);
+    let b = boundary(vertices, &closure.unpaired)?;
     let (edges, length, width, at) = b.longest;
     let crack = width <= CRACK * diagonal;
     let (u, v) = closure.unpaired[0];

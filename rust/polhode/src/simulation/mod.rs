@@ -176,6 +176,7 @@ pub fn simulate(
         orientation0,
         layout,
         monitor,
+        failures: crate::monitor::Failures::new(),
     };
     if rotors == 0 {
         runner::run(&RigidBody, &ctx, &mut outputs)?;
@@ -242,6 +243,7 @@ pub fn simulate_every_step(
         orientation0: &orientation0,
         layout: Layout::new(run.with_orientation, run.rotors.len(), t),
         monitor,
+        failures: crate::monitor::Failures::new(),
     };
     if run.rotors.is_empty() {
         runner::every_step(&RigidBody, &ctx)

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use super::job::Job;
 use super::quantity::{write_row, Quantity, Sample};
 use crate::dynamics::{Gyrostat, Stats};
-use crate::memory::zeros;
+use crate::memory::{self, Purpose};
 use crate::{Error, Result};
 
 /// The outputs of [`super::simulate`]: for each [`Quantity`] present, N x M x width numbers,
@@ -48,18 +48,28 @@ impl Outputs {
     pub(crate) fn zeroed(n: usize, layout: &Layout) -> Result<Self> {
         let m = layout.t.len();
         let per_time: usize = layout.widths().iter().sum();
+        // The error gives the size of all the outputs (a product that may exceed usize).
         let bytes = (n as f64) * (m as f64) * (per_time as f64) * 8.0;
-        let mut columns = Vec::with_capacity(layout.count);
+        let all = |_| Purpose::Outputs.error(bytes);
+        let size = |width: usize| {
+            n.checked_mul(m)
+                .and_then(|nm| nm.checked_mul(width))
+                .ok_or_else(|| Purpose::Outputs.error(bytes))
+        };
+        let mut columns = memory::with_capacity(layout.count, Purpose::Outputs)?;
         for (quantity, width) in layout.quantities().zip(layout.widths()) {
-            columns.push((*quantity, zeros(n * m * width, bytes)?));
+            columns.push((
+                *quantity,
+                memory::zeros(size(width)?, Purpose::Outputs).map_err(all)?,
+            ));
         }
         Ok(Self {
             n,
             m,
             rotors: layout.rotors,
             columns,
-            moments: zeros(3 * n, bytes)?,
-            stats: vec![Stats::default(); n],
+            moments: memory::zeros(3 * n, Purpose::Outputs).map_err(all)?,
+            stats: memory::filled(n, Stats::default(), Purpose::Outputs).map_err(all)?,
         })
     }
 

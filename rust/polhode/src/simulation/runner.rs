@@ -26,7 +26,10 @@ use crate::dynamics::{
     start, start_state, Gyrostat, Method, Options, RotorSpec, State, Stats, Torque,
 };
 use crate::exact::FreeRotation;
+use crate::memory::{self, Purpose};
+use crate::monitor::{running, Failures};
 use crate::{Error, Monitor, Result};
+use std::sync::Arc;
 
 /// Outputs written between two looks at the monitor (a few hundred microseconds).
 const OUTPUT_LOOK_EVERY: usize = 4096;
@@ -47,6 +50,8 @@ pub(crate) struct Context<'c> {
     pub(crate) orientation0: &'c [UnitQuaternion<f64>],
     pub(crate) layout: Layout<'c>,
     pub(crate) monitor: Option<&'c Monitor>,
+    /// The batch's first failure: the bodies after it stop (see [`Failures`]).
+    pub(crate) failures: Arc<Failures>,
 }
 
 impl Context<'_> {
@@ -70,6 +75,12 @@ impl Context<'_> {
             max_steps: self.run.max_steps,
             monitor: self.monitor,
         }
+    }
+
+    /// Body `i` failed with `error`: the bodies after it stop (see [`Failures`]).
+    fn failed(&self, i: usize, error: Error) -> (usize, Error) {
+        self.failures.fail(i);
+        (i, error)
     }
 
     /// A look at the monitor every [`OUTPUT_LOOK_EVERY`] outputs: writing millions of them
@@ -120,15 +131,22 @@ pub(crate) struct Samples {
 
 impl Samples {
     /// The state at `t`, unless it is at or before the last one's time (a step that ends at
-    /// an output time is reported once).
-    fn push(&mut self, t: f64, w: &Vector3<f64>, q: Option<&UnitQuaternion<f64>>, vars: &[f64]) {
+    /// an output time is reported once). The samples grow with the run's steps, which the
+    /// input does not bound: through `memory`, an [`Error::OutOfMemory`] rather than an abort.
+    fn push(
+        &mut self,
+        t: f64,
+        w: &Vector3<f64>,
+        q: Option<&UnitQuaternion<f64>>,
+        vars: &[f64],
+    ) -> Result<()> {
         if self.t.last().is_some_and(|&last| t <= last) {
-            return;
+            return Ok(());
         }
-        self.t.push(t);
-        self.omega.push(*w);
-        self.orientation.push(q.copied());
-        self.vars.extend_from_slice(vars);
+        memory::push(&mut self.t, t, Purpose::Outputs)?;
+        memory::push(&mut self.omega, *w, Purpose::Outputs)?;
+        memory::push(&mut self.orientation, q.copied(), Purpose::Outputs)?;
+        memory::extend(&mut self.vars, vars, Purpose::Outputs)
     }
 
     /// Outputs of one body at the samples' times, written from them (the quaternions' signs
@@ -211,13 +229,9 @@ impl Equations for RigidBody {
             &options,
             &mut |j, w, q| {
                 ctx.look(j)?;
-                samples.borrow_mut().push(t[j], w, q, &[]);
-                Ok(())
+                samples.borrow_mut().push(t[j], w, q, &[])
             },
-            Some(&mut |time, w, q| {
-                samples.borrow_mut().push(time, w, q, &[]);
-                Ok(())
-            }),
+            Some(&mut |time, w, q| samples.borrow_mut().push(time, w, q, &[])),
         )?;
         samples.into_inner().write(ctx, job, None, stats)
     }
@@ -267,13 +281,9 @@ impl Equations for WithRotors<'_> {
             &options,
             &mut |j, w, q, vars| {
                 ctx.look(j)?;
-                samples.borrow_mut().push(t[j], w, Some(q), vars);
-                Ok(())
+                samples.borrow_mut().push(t[j], w, Some(q), vars)
             },
-            Some(&mut |time, w, q, vars| {
-                samples.borrow_mut().push(time, w, Some(q), vars);
-                Ok(())
-            }),
+            Some(&mut |time, w, q, vars| samples.borrow_mut().push(time, w, Some(q), vars)),
         )?;
         samples.into_inner().write(ctx, job, Some(&gyrostat), stats)
     }
@@ -288,7 +298,8 @@ pub(crate) fn run<E: Equations>(equations: &E, ctx: &Context, outputs: &mut Outp
         on_blocks(ctx, share, 1, |block| {
             block.bodies().find_map(|body| {
                 let i = body.index;
-                one(equations, ctx, body).err().map(|e| (i, e))
+                let ran = ctx.failures.run_as(i, || one(equations, ctx, body));
+                ran.err().map(|e| ctx.failed(i, e))
             })
         })
     } else if matches!(ctx.run.method, Method::Splitting { .. }) && ctx.bodies.len() > 1 {
@@ -298,14 +309,23 @@ pub(crate) fn run<E: Equations>(equations: &E, ctx: &Context, outputs: &mut Outp
                 let mut blocks = grouped_blocks(ctx, rows);
                 let parallel = ctx.run.parallel && blocks.len() > 1;
                 first_error(parallel, &mut blocks, |block| {
-                    block_of_lanes(equations, ctx, block.iter_mut().map(std::mem::take))
+                    // Rows in ascending order of index within a block.
+                    let first = block.first().map_or(0, |rows| rows.index);
+                    if ctx.failures.stops(first) {
+                        return None;
+                    }
+                    ctx.failures.run_as(first, || {
+                        block_of_lanes(equations, ctx, block.iter_mut().map(std::mem::take))
+                    })
                 })
                 .map_or(Ok(()), Err)
             })
             .err()
     } else {
         on_blocks(ctx, share, lanes::LANES, |block| {
-            block_of_lanes(equations, ctx, block.bodies())
+            ctx.failures.run_as(block.first, || {
+                block_of_lanes(equations, ctx, block.bodies())
+            })
         })
     };
     match failed {
@@ -325,6 +345,14 @@ fn on_blocks<'a>(
     size: usize,
     f: impl Fn(Share<'a>) -> Option<(usize, Error)> + Sync,
 ) -> Option<(usize, Error)> {
+    // A block after the batch's first failure is skipped: it cannot hold the first error.
+    let f = |block: Share<'a>| {
+        if ctx.failures.stops(block.first) {
+            None
+        } else {
+            f(block)
+        }
+    };
     let in_order = |share: Share<'a>| {
         let mut rest = share;
         let mut failed = None;
@@ -405,7 +433,15 @@ fn exact(ctx: &Context, job: &Job, mut columns: [&mut [f64]; COLUMNS]) -> Result
             }
         }
         if ctx.run.parallel {
-            chunks.into_par_iter().map(chunk).collect()
+            // Each chunk as the body whose chunk it is, on whichever thread runs it.
+            let body = running();
+            chunks
+                .into_par_iter()
+                .map(|c| match &body {
+                    Some((failures, i)) => failures.run_as(*i, || chunk(c)),
+                    None => chunk(c),
+                })
+                .collect()
         } else {
             chunks.into_iter().map(chunk).collect()
         }
@@ -539,6 +575,7 @@ fn block_of_lanes<'a, E: Equations>(
 ) -> Option<(usize, Error)> {
     let mut failed: Option<(usize, Error)> = None;
     let mut fail = |i: usize, error: Error| {
+        ctx.failures.fail(i);
         if failed.as_ref().is_none_or(|(f, _)| i < *f) {
             failed = Some((i, error));
         }

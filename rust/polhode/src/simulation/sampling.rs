@@ -18,6 +18,7 @@ use super::job::Job;
 use super::{Body, Simulation};
 use crate::dynamics::{substeps, Gyrostat, Method};
 use crate::exact::FreeRotation;
+use crate::memory::{self, Purpose};
 use crate::{Error, Result};
 
 /// What sets a motion's fastest rate.
@@ -126,13 +127,14 @@ pub fn fastest_rate(
         pace: Pace::Rest,
         body: 0,
     };
+    // One result per body (through `memory`: a batch's size is the input's).
     let result = if run.parallel && n > 1 {
-        (0..n)
-            .into_par_iter()
-            .map(|i| one(i).map_err(|e| (i, e)))
-            .collect::<Vec<_>>()
+        memory::collect_parallel(
+            (0..n).into_par_iter().map(|i| one(i).map_err(|e| (i, e))),
+            Purpose::Bodies,
+        )?
     } else {
-        (0..n).map(|i| one(i).map_err(|e| (i, e))).collect()
+        memory::collect((0..n).map(|i| one(i).map_err(|e| (i, e))), Purpose::Bodies)?
     };
     let mut best = rest;
     for item in result {
