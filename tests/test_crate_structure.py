@@ -139,6 +139,16 @@ def module_edges(root: Path) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
     paths, in ``use`` trees and in code), each path taken to its longest prefix that is a
     module."""
     files = {_module(p, root): p for p in root.rglob("*.rs")}
+    # What the crate's root re-exports (``pub use error::{Error, Result}``): ``crate::Error``
+    # is a use of the module that defines it.
+    reexports: dict[str, tuple[str, ...]] = {}
+    lib = blank((root / "lib.rs").read_text()) if (root / "lib.rs").exists() else ""
+    for tree in re.findall(r"\bpub\s+use\s+([^;]+);", lib):
+        for names in _paths(tree):
+            for k in range(len(names) - 1, 0, -1):
+                if tuple(names[:k]) in files:
+                    reexports[names[-1]] = tuple(names[:k])
+                    break
     edges: dict[tuple[str, ...], set[tuple[str, ...]]] = defaultdict(set)
     for module, path in files.items():
         code = blank(path.read_text())
@@ -150,9 +160,13 @@ def module_edges(root: Path) -> dict[tuple[str, ...], set[tuple[str, ...]]]:
             for names in _paths(rest):
                 full = base + tuple(names)
                 for k in range(len(full), 0, -1):
-                    if full[:k] in files and full[:k] != module:
-                        edges[module].add(full[:k])
+                    if full[:k] in files:
+                        if full[:k] != module:
+                            edges[module].add(full[:k])
                         break
+                else:
+                    if full and full[0] in reexports and reexports[full[0]] != module:
+                        edges[module].add(reexports[full[0]])
     return edges
 
 
@@ -234,6 +248,16 @@ def test_the_scanner_sees_a_long_function_an_unexplained_unsafe_and_cycles(tmp_p
         },
     )
     assert sorted(module_cycles(crate)) == [[("a",), ("b",)], [("b", "c"), ("b", "d")]]
+    # A cycle through the root's re-exports: e names crate::Thing, which f defines; f uses e.
+    crate = _crate(
+        tmp_path / "reexport",
+        {
+            "lib.rs": "mod e;\nmod f;\npub use f::{Thing, Other};\n",
+            "e.rs": "fn g() -> crate::Thing { todo!() }\n",
+            "f.rs": "use crate::e::helper;\npub struct Thing;\n",
+        },
+    )
+    assert module_cycles(crate) == [[("e",), ("f",)]]
 
 
 @pytest.mark.parametrize("tree", ["a::{b, c::{d, e}}", "a::b"])

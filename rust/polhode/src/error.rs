@@ -1,7 +1,5 @@
 //! The one error type of the core crate.
 
-use crate::memory::Purpose;
-
 /// Everything that can go wrong in the core, each variant naming the argument at fault.
 ///
 /// Messages follow the form ``Expected `name` to ..., got ...``, so that the Python layer can
@@ -242,5 +240,76 @@ pub(crate) fn positive(name: &str, value: f64) -> Result<f64> {
             name: name.to_owned(),
             value,
         })
+    }
+}
+
+/// What memory that could not be allocated was for: the error names it and says what to ask
+/// for instead.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Purpose {
+    /// The outputs of a simulation (every quantity at every output time of every body).
+    Outputs,
+    /// A batch's bodies, initial angular velocities and orientations, as the core reads them.
+    Bodies,
+    /// The principal moments, axes and multiplicities of a batch of tensors.
+    PrincipalAxes,
+    /// The inertia tensors of the frames of a point-mass trajectory.
+    FrameTensors,
+    /// The partial sums of many point masses.
+    PointMasses,
+    /// The working memory of a mesh's mass properties and of its closedness check (a copy of
+    /// the vertices, the directed edges, the merged vertices).
+    Mesh,
+    /// The merged vertices and renumbered faces of a mesh file.
+    MergedMesh,
+    /// A C-contiguous copy of an input array given with other strides.
+    Input,
+}
+
+impl Purpose {
+    /// What the memory is for, as the error says it.
+    #[must_use]
+    pub fn what(self) -> &'static str {
+        match self {
+            Purpose::Outputs => "the outputs",
+            Purpose::Bodies => "the bodies of the batch",
+            Purpose::PrincipalAxes => "the principal moments, axes and multiplicities",
+            Purpose::FrameTensors => "the inertia tensors of the frames",
+            Purpose::PointMasses => "the sums of the point masses",
+            Purpose::Mesh => "the working memory of the mesh",
+            Purpose::MergedMesh => "the merged vertices and faces of the mesh",
+            Purpose::Input => "a C-contiguous copy of the input",
+        }
+    }
+
+    /// What to ask for instead, as the error says it.
+    #[must_use]
+    pub fn instead(self) -> &'static str {
+        match self {
+            Purpose::Outputs => {
+                "ask for fewer output times or bodies, without the orientation, or in chunks \
+                 (polhode.dask)."
+            }
+            Purpose::Bodies => "simulate fewer bodies at a time, or in chunks (polhode.dask).",
+            Purpose::PrincipalAxes => "pass fewer tensors at a time (slices of the batch).",
+            Purpose::FrameTensors => "pass fewer frames at a time (slices of the trajectory).",
+            Purpose::PointMasses => "pass the points in parts and add their bodies (Body + Body).",
+            Purpose::Mesh | Purpose::MergedMesh => {
+                "use a mesh with fewer faces and vertices (decimated), or free memory."
+            }
+            Purpose::Input => {
+                "pass C-contiguous float64 arrays (numpy.ascontiguousarray), or a smaller input."
+            }
+        }
+    }
+
+    /// The error for an allocation of `bytes` for this purpose.
+    #[must_use]
+    pub fn error(self, bytes: f64) -> Error {
+        Error::OutOfMemory {
+            bytes,
+            purpose: self,
+        }
     }
 }
