@@ -487,7 +487,8 @@ def test_ctrl_c_idles_an_in_process_cluster():
 # ---------------------------------------------------------------------------------------------
 
 #: Process CPU a Python-side path may use after the signal: the rest of one chunk's numpy work
-#: (2^20 values: 10 to 60 ms measured) and freeing what it made. Before the chunks, perturbation
+#: (2^18 values since the chunks were made smaller: 2^20 took 10 to 60 ms, and under load the
+#: whole euler_angles once 0.243 s) and freeing what it made. Before the chunks, perturbation
 #: at 5e7 times used up to 2.9 s, relative_drift of 1.5e7 times up to 1.2 s.
 PY_CPU_BOUND = 0.2
 #: What such a call must have had left at the signal, so that running on would fail the bound.
