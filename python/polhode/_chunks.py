@@ -57,9 +57,12 @@ def accumulate(ufunc: Any, x: NDArray[Any], chunk: int | None = None) -> NDArray
 def unwrap(p: NDArray[np.float64], chunk: int | None = None) -> NDArray[np.float64]:
     """``np.unwrap(p, axis=0)`` (period 2 pi) chunk by chunk, bit for bit the same."""
     p = np.asarray(p, dtype=np.float64)
-    up = np.array(p, copy=True)
     if len(p) < 2:
-        return up
+        return np.array(p, copy=True)
+    # Every row is written below (row 0 here, the others chunk by chunk): no whole-array copy,
+    # which for 1.8e7 rows of three took 0.1 s with Ctrl-C held.
+    up = np.empty_like(p)
+    up[0] = p[0]
     period = 2 * math.pi
     high, low = period / 2, -period / 2
     carry = None  # the cumulative correction up to the previous chunk's last difference

@@ -58,7 +58,9 @@ def euler_angles(quaternion: NDArray[np.float64], seq: str) -> NDArray[np.float6
         a = angles[span]
         nearest[span] = np.argmin(np.abs(a[:, 1, None] - ends), axis=1)
         locked[span] = (a[:, 2] == 0.0) & (np.abs(a[:, 1] - ends[nearest[span]]) <= 1e-6)
-    sign = signs[nearest]
+    sign = np.empty(m)
+    for span in spans(m):
+        sign[span] = signs[nearest[span]]
     # At a lock scipy sets the third angle to zero and puts the combination into the first:
     # the third keeps its previous value instead (0 before any), the first takes the rest.
     if locked.any():

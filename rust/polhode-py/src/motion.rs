@@ -9,7 +9,7 @@ use std::borrow::Cow;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use numpy::ndarray::{Array1, Array2, Array3, ArrayD};
 use numpy::{IntoPyArray, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use polhode::dynamics::{Method, MethodSettings, METHODS};
+use polhode::dynamics::{Method, MethodSettings, RotorSpec, TorqueSpec, METHODS};
 use polhode::exact::{FreeRotation, Regime};
 use polhode::memory::{self, Purpose};
 use polhode::settings::count;
@@ -148,6 +148,62 @@ pub(crate) fn orientations(
     }
 }
 
+/// What `simulate` and `fastest_rate` read of a run's bodies: `omega0`'s shape decides one
+/// body (`n` None) or N, then the bodies and their orientations.
+pub(crate) struct Motion {
+    pub(crate) n: Option<usize>,
+    pub(crate) bodies: Vec<Body>,
+    pub(crate) omega0: Vec<Vector3<f64>>,
+    pub(crate) orientation0: Vec<UnitQuaternion<f64>>,
+}
+
+/// The bodies, initial angular velocities and orientations of a run, as `simulate` reads them.
+pub(crate) fn motion(
+    body: &Bound<'_, PyAny>,
+    omega0: &PyReadonlyArrayDyn<'_, f64>,
+    orientation0: Option<PyReadonlyArrayDyn<'_, f64>>,
+) -> PyResult<Motion> {
+    let (omega_shape, omega_data) = dense(omega0)?;
+    let n = match omega_shape {
+        [3] => None,
+        [n, 3] => Some(*n),
+        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
+    };
+    Ok(Motion {
+        n,
+        bodies: bodies(body, n)?,
+        omega0: rows3(&omega_data)?,
+        orientation0: orientations(orientation0)?,
+    })
+}
+
+/// The torque, the rotors (their Python callbacks through `call`) and the method of a run,
+/// from `simulate`'s arguments (`dt`, `order`, `rtol`, `atol`), the method checked by the core.
+pub(crate) fn run_settings(
+    torque: Option<&Bound<'_, PyAny>>,
+    rotors: Option<Vec<Bound<'_, PyAny>>>,
+    method: &str,
+    (dt, order, rtol, atol): (Option<f64>, i64, f64, Option<f64>),
+    call: &Call,
+) -> PyResult<(Option<TorqueSpec>, Vec<RotorSpec>, Method)> {
+    let spec = torque.map(|t| torque_spec(t, call)).transpose()?;
+    let rotors = rotors
+        .unwrap_or_default()
+        .iter()
+        .map(|r| rotor_spec(r, call))
+        .collect::<PyResult<Vec<_>>>()?;
+    let settings = MethodSettings {
+        dt,
+        order,
+        rtol,
+        atol,
+        torque: spec.is_some(),
+        rotors: !rotors.is_empty(),
+    };
+    let method = Method::from_name(method, &settings).map_err(CoreError)?;
+    Ok((spec, rotors, method))
+}
+
 /// Integrates one body (`omega0` of shape (3,)) or N bodies (`omega0` (N, 3)): see
 /// `polhode.simulate`. Returns the fields of a `Trajectory` by name, in their order: `t` (the
 /// array `t` itself), every quantity of `polhode::simulation::Quantity` (a single body without
@@ -195,15 +251,12 @@ pub fn simulate<'py>(
     rotors: Option<Vec<Bound<'py, PyAny>>>,
     every_step: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (omega_shape, omega_data) = dense(&omega0)?;
-    let n = match omega_shape {
-        [3] => None,
-        [n, 3] => Some(*n),
-        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
-    };
-    let bodies = bodies(body, n)?;
-    let omega0 = rows3(&omega_data)?;
-    let orientation0 = orientations(orientation0)?;
+    let Motion {
+        n,
+        bodies,
+        omega0,
+        orientation0,
+    } = motion(body, &omega0, orientation0)?;
     let (t_shape, times) = dense(&t)?;
     if t_shape.len() != 1 {
         return Err(bad_shape("t", "(M,)", t_shape));
@@ -216,21 +269,13 @@ pub fn simulate<'py>(
         omega0.len(),
         span,
     );
-    let spec = torque.as_ref().map(|t| torque_spec(t, &call)).transpose()?;
-    let rotors = rotors
-        .unwrap_or_default()
-        .iter()
-        .map(|r| rotor_spec(r, &call))
-        .collect::<PyResult<Vec<_>>>()?;
-    let settings = MethodSettings {
-        dt,
-        order,
-        rtol,
-        atol,
-        torque: spec.is_some(),
-        rotors: !rotors.is_empty(),
-    };
-    let method = Method::from_name(method, &settings).map_err(CoreError)?;
+    let (spec, rotors, method) = run_settings(
+        torque.as_ref(),
+        rotors,
+        method,
+        (dt, order, rtol, atol),
+        &call,
+    )?;
     let max_steps = count("max_steps", max_steps).map_err(CoreError)?;
     if let Some(progress) = progress.as_ref().filter(|p| !p.is_callable()) {
         return Err(PyTypeError::new_err(format!(

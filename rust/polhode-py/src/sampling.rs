@@ -2,16 +2,13 @@
 //! with an end time. Converts the arguments as `simulate` does and calls the core.
 
 use numpy::PyReadonlyArrayDyn;
-use polhode::dynamics::{Method, MethodSettings};
 use polhode::simulation::{fastest_rate as core_fastest_rate, fixed_steps, Simulation};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::bad_shape;
 use crate::errors::CoreError;
-use crate::motion::{bodies, dense, orientations, rows3};
-use crate::rotors::rotor_spec;
-use crate::torque::{calls_python, torque_spec};
+use crate::motion::{motion, run_settings, Motion};
+use crate::torque::calls_python;
 use crate::watch::Call;
 
 /// The fastest rate (rad per unit time) of the motions of `body` from `omega0` at `t0` until
@@ -42,33 +39,22 @@ pub fn fastest_rate<'py>(
     torque: Option<Bound<'py, PyAny>>,
     rotors: Option<Vec<Bound<'py, PyAny>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (omega_shape, omega_data) = dense(&omega0)?;
-    let n = match omega_shape {
-        [3] => None,
-        [n, 3] => Some(*n),
-        _ => return Err(bad_shape("omega0", "(3,) or (N, 3)", omega_shape)),
-    };
-    let bodies = bodies(body, n)?;
-    let omega0 = rows3(&omega_data)?;
-    let orientation0 = orientations(orientation0)?;
+    let Motion {
+        bodies,
+        omega0,
+        orientation0,
+        ..
+    } = motion(body, &omega0, orientation0)?;
     // Ctrl-C and the first exception of a Python torque or motor stop it as they stop
     // `simulate` (one cancellation path: `watch::Call`).
     let call = Call::new(None, 1, 0.0);
-    let spec = torque.as_ref().map(|t| torque_spec(t, &call)).transpose()?;
-    let rotors = rotors
-        .unwrap_or_default()
-        .iter()
-        .map(|r| rotor_spec(r, &call))
-        .collect::<PyResult<Vec<_>>>()?;
-    let settings = MethodSettings {
-        dt,
-        order,
-        rtol,
-        atol,
-        torque: spec.is_some(),
-        rotors: !rotors.is_empty(),
-    };
-    let method = Method::from_name(method, &settings).map_err(CoreError)?;
+    let (spec, rotors, method) = run_settings(
+        torque.as_ref(),
+        rotors,
+        method,
+        (dt, order, rtol, atol),
+        &call,
+    )?;
     // Bodies in parallel but with a Python torque or motor (called with the GIL, one body
     // after another), the GIL released as `simulate` releases it.
     let serial = spec.as_ref().is_some_and(calls_python) || rotors.iter().any(|r| r.has_function());
