@@ -363,15 +363,7 @@ def _simulate_block(
     options: dict[str, Any],
     stack: bool = False,
 ) -> NDArray[Any]:
-    if rest:  # one orientation per body
-        orientation0 = rest[0]
-        if stack:
-            from scipy.spatial.transform import Rotation
-
-            # The very quaternions of the caller's Rotation: from_quat would normalize them
-            # again and change the last bits.
-            orientation0 = Rotation(orientation0, normalize=False)
-        options = {**options, "orientation0": orientation0}
+    options = _with_orientations(options, rest, stack)
     try:
         traj = simulation.simulate(moments, omega0, t, **options)
     except PolhodeError as error:
@@ -380,6 +372,22 @@ def _simulate_block(
     for name in record_dtype.names or ():
         records[name] = traj.stats[name] if name in traj.stats else getattr(traj, name)
     return records
+
+
+def _with_orientations(
+    options: dict[str, Any], rest: tuple[Any, ...], stack: bool
+) -> dict[str, Any]:
+    """A block's options with its bodies' orientations (``rest``: one per body, when given);
+    ``stack``: they are the quaternions of the caller's Rotation, taken as they are (from_quat
+    would normalize them again and change the last bits)."""
+    if not rest:
+        return options
+    orientation0 = rest[0]
+    if stack:
+        from scipy.spatial.transform import Rotation
+
+        orientation0 = Rotation(orientation0, normalize=False)
+    return {**options, "orientation0": orientation0}
 
 
 #: One block's fastest body (polhode._core.fastest_rate over its rows).
@@ -396,13 +404,7 @@ def _rate_block(
     stack: bool = False,
 ) -> NDArray[Any]:
     """The fastest rate of a block's bodies, its body numbered in the whole batch: one record."""
-    if rest:
-        orientation0 = rest[0]
-        if stack:
-            from scipy.spatial.transform import Rotation
-
-            orientation0 = Rotation(orientation0, normalize=False)
-        options = {**options, "orientation0": orientation0}
+    options = _with_orientations(options, rest, stack)
     try:
         rate = simulation.fastest_rate(moments, omega0, t_end, **options)
     except PolhodeError as error:

@@ -156,15 +156,7 @@ pub fn simulate(
     monitor: Option<&Monitor>,
 ) -> Result<Outputs> {
     let n = omega0.len();
-    for (name, len) in [("body", bodies.len()), ("orientation0", orientation0.len())] {
-        if len != 1 && len != n {
-            return Err(Error::Shape {
-                name: name.into(),
-                expected: format!("one, or one per body ({n})"),
-                got: len.to_string(),
-            });
-        }
-    }
+    one_or_each(bodies.len(), orientation0.len(), n)?;
     run.check(t)?;
     let rotors = run.rotors.len();
     let layout = Layout::new(run.with_orientation, rotors, t);
@@ -190,6 +182,21 @@ pub fn simulate(
         )?;
     }
     Ok(outputs)
+}
+
+/// That `bodies` bodies and `orientations` orientations go with `n` initial angular
+/// velocities: one shared by all, or one per body; a [`Error::Shape`] naming the argument.
+pub(crate) fn one_or_each(bodies: usize, orientations: usize, n: usize) -> Result<()> {
+    for (name, len) in [("body", bodies), ("orientation0", orientations)] {
+        if len != 1 && len != n {
+            return Err(Error::Shape {
+                name: name.into(),
+                expected: format!("one, or one per body ({n})"),
+                got: len.to_string(),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// [`simulate`] of one body by `dop853`, reporting it at the output times `t` and at the end

@@ -19,7 +19,7 @@ use super::{Body, Simulation};
 use crate::dynamics::{substeps, Gyrostat, Method};
 use crate::exact::FreeRotation;
 use crate::memory::{self, Purpose};
-use crate::{Error, Result};
+use crate::Result;
 
 /// What sets a motion's fastest rate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,15 +96,7 @@ pub fn fastest_rate(
     t_end: f64,
 ) -> Result<Rate> {
     let n = omega0.len();
-    for (name, len) in [("body", bodies.len()), ("orientation0", orientation0.len())] {
-        if len != 1 && len != n {
-            return Err(Error::Shape {
-                name: name.into(),
-                expected: format!("one, or one per body ({n})"),
-                got: len.to_string(),
-            });
-        }
-    }
+    super::one_or_each(bodies.len(), orientation0.len(), n)?;
     run.check(&[run.t0, t_end])?;
     let at = |len: usize, i: usize| if len == 1 { 0 } else { i };
     let one = |i: usize| -> Result<Rate> {
