@@ -244,14 +244,16 @@ def test_import_polhode_does_not_import_dask():
 @pytest.fixture(scope="module")
 def client():
     distributed = pytest.importorskip("distributed")
-    # No dashboard: it needs bokeh and a fixed port (8787) that another run may hold, and the
-    # warning about a taken port would fail the run under filterwarnings = error.
+    # The scheduler's HTTP server on a free port (":0"): distributed 2026.8 binds 8787 even
+    # for dashboard_address=None, and two clusters at once (pytest -n 2 puts this module's
+    # tests on both workers) gave "Port 8787 is already in use", an error under
+    # filterwarnings = error.
     with (
         distributed.LocalCluster(
             n_workers=2,
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            dashboard_address=":0",
         ) as cluster,
         distributed.Client(cluster) as client,
     ):
@@ -310,6 +312,11 @@ def test_ctrl_c_idles_the_cluster_workers(client):
     lazy = phd.simulate(
         moments, omega0, [0.0, 2e5], method="rk4", dt=1e-3, max_steps=10**9, chunks=1
     )
+    # The workers idle first (the shared cluster may still be finishing an earlier test's
+    # work): the CPU they use from here on is this compute's, so that "under way" below means
+    # that its blocks are running. Counted from before, a block that started only after the
+    # cancel_all (a later call, which runs normally by design) made this test fail now and then.
+    cpu_until_idle(lambda: sum(cpu(w) for w in workers))
     started = [cpu(w) for w in workers]
 
     def under_way(_: float) -> bool:  # each worker has run its block for 0.3 s of CPU
