@@ -7,7 +7,7 @@ T frames (default 1e6) of a body tumbling smoothly (its axis turned by a random 
 0.6 degrees per frame); medians of R calls (default 5) in ns per frame, wall time. The
 following runs in Rust after the solve (polhode::series): matching each frame's signed
 permutation, or a Procrustes problem for a degenerate frame. When it was Python's, a symmetric
-top cost 104-138 us per frame (issue 28); distinct moments about 0.6 us.
+top cost 104-138 us per frame; distinct moments about 0.6 us.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The hypothesis properties at a thorough profile, outside CI: many more examples than the
-suite's 100 (local) or 400 (CI), for the note of a release or an issue.
+suite's 100 (local) or 400 (CI), for the note of a release.
 
     python -m benchmarks.fuzz_thorough [--examples N] [--only PATTERN ...] [--all]
 

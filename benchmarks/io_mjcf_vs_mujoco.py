@@ -4,7 +4,7 @@
     python -m benchmarks.io_mjcf_vs_mujoco [--fuse] [--files] [NAME=FOLDER ...]
 
 For each corpus: the MJCF files (XML whose root is ``<mujoco>``), those MuJoCo 4.x compiles,
-those read_mjcf reads as MuJoCo compiles them (and, as before issue 26, as written:
+those read_mjcf reads as MuJoCo compiles them (and, as polhode read them before, as written:
 ``as_written=True``), and the worst difference against MuJoCo's ``body_mass``, ``body_ipos``,
 ``body_iquat``, ``body_inertia`` of any body: mass and centre of mass (relative), tensor
 (relative Frobenius) and the tensor's difference as a fraction of MuJoCo's eigensolver bound
@@ -42,7 +42,7 @@ def mjcf_files(folder: str) -> list[str]:
 
 
 def as_written_worst(path: str, model) -> tuple[str, bool]:
-    """The reading before issue 26 (as written) against MuJoCo: its worst mass and tensor
+    """The earlier reading (as written) against MuJoCo: its worst mass and tensor
     difference, or why it refuses the file; and whether it agrees (mass to 1e-12, tensor to
     1e-6)."""
     try:
@@ -142,7 +142,7 @@ def main() -> None:
     print(
         "\nfiles: XML files with a <mujoco> root; MuJoCo: those it compiles; read: those "
         "read_mjcf reads with every body within the bounds; before: those read as written "
-        "(as_written=True, the reading before issue 26), and agreed: of those, the files within "
+        "(as_written=True, the earlier reading), and agreed: of those, the files within "
         "1e-12 in mass and 1e-6 in tensor. of eig: the largest tensor difference "
         "as a fraction of MuJoCo's eigensolver bound 1.5e-6 (lmax - lmin) + 1e-12 |I|."
     )

@@ -1,7 +1,7 @@
 """The outcome of each row of the catalogue (tests/test_catalogue.py) on the polhode installed:
 ok, minor or unacceptable, with the totals; for a note that compares versions of polhode.
 
-    python tests/catalogue_outcomes.py [--from-issue28] [--list]
+    python tests/catalogue_outcomes.py [--from-probe] [--list]
 
 - ok: the row passes (its typed error naming the argument, or its right value);
 - minor: a typed error, but of another class or naming another argument (or none), or a plain
@@ -11,8 +11,8 @@ ok, minor or unacceptable, with the totals; for a note that compares versions of
   value, or a row still running after a minute.
 
 Each row runs in this process with warnings as errors (as pytest runs the suite) and a 60 s
-alarm. ``--from-issue28`` counts the rows from ``ISSUE28_FIRST_ROW`` on (issue 28's cases and
-its wider probe); ``--list`` prints every row that is not ok.
+alarm. ``--from-probe`` counts the rows from ``PROBE_FIRST_ROW`` on (the faults an adversarial
+probe found and a wider probe of the public API); ``--list`` prints every row that is not ok.
 """
 
 from __future__ import annotations
@@ -114,12 +114,12 @@ def _exit(expect, result) -> tuple[str, str]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--from-issue28", action="store_true")
+    parser.add_argument("--from-probe", action="store_true")
     parser.add_argument("--list", action="store_true")
     args = parser.parse_args()
     import test_catalogue as cat
 
-    rows = cat.CATALOGUE[cat.ISSUE28_FIRST_ROW:] if args.from_issue28 else cat.CATALOGUE
+    rows = cat.CATALOGUE[cat.PROBE_FIRST_ROW:] if args.from_probe else cat.CATALOGUE
     totals: collections.Counter = collections.Counter()
     by_area: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
     listed = []

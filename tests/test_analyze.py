@@ -285,8 +285,8 @@ def test_turns_over_when_l_dwells_near_the_intermediate_axis(label, moments, ome
 
 
 def test_a_stable_spin_about_the_smallest_axis_does_not_flip():
-    # A box 0.1 x 0.2 x 0.5 spun at 10 rad/s about its long axis (the smallest moment): issue
-    # 29 saw flip_interval=0.566 and "flip interval" printed for it.
+    # A box 0.1 x 0.2 x 0.5 spun at 10 rad/s about its long axis (the smallest moment): analyze
+    # once gave flip_interval=0.566 and "flip interval" printed for it.
     box = ph.Body.cuboid(1.0, [0.1, 0.2, 0.5])
     a = ph.analyze(box, [0.05, 0.05, 10.0])
     assert a.regime == "about_smallest_axis" and a.spin_axis == 0

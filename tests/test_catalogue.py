@@ -1852,13 +1852,14 @@ CATALOGUE.append(Row("cli/python -m polhode --version", "cli", _subprocess_versi
 
 
 # ---------------------------------------------------------------------------------------------
-# 11. Issue 28, and a wider probe: invariants, molecules, files (io), argument types of simulate
-#     and analyze, masked arrays and numbers beyond double precision everywhere, pickling
+# 11. An adversarial probe's faults, and a wider probe: invariants, molecules, files (io),
+#     argument types of simulate and analyze, masked arrays and numbers beyond double
+#     precision everywhere, pickling
 # ---------------------------------------------------------------------------------------------
 
-#: The rows from here on are issue 28's: its cases and a wider probe of the public API
+#: The rows from here on are an adversarial probe's faults and a wider probe of the public API
 #: (``python tests/catalogue_outcomes.py`` counts their outcomes on any version of polhode).
-ISSUE28_FIRST_ROW = len(CATALOGUE)
+PROBE_FIRST_ROW = len(CATALOGUE)
 BIG = 2**2000  # an integer beyond double precision: float(BIG) raises OverflowError
 
 
@@ -2029,7 +2030,7 @@ err(area, "from_spatial_inertia convention 3",
 err(area, "from_spatial_inertia rtol 'x'",
     lambda: ph.Body.from_spatial_inertia(np.eye(6), rtol="x"), TypeError, "rtol")
 
-# The componentwise tensor of a needle and of points just off an axis (issue 28; exact values
+# The componentwise tensor of a needle and of points just off an axis (exact values
 # in rational arithmetic: tests/test_tensor_components.py).
 _NEEDLE = (1.0, 1e-8, 1.0)
 _AXIAL = Fraction(1.0) * Fraction(1e-8) ** 2 / 2  # m r^2 / 2, exactly, of the doubles given
@@ -2062,7 +2063,7 @@ val(area, "simulate of a needle's tensor keeps its energy",
     lambda: ph.simulate(ph.Body.cylinder(*_NEEDLE).inertia, [0.0, 0.0, 2.0], [0.0, 1.0]).energy,
     lambda e: [relative_to(_AXIAL * 2, 64 * EPS)(x) for x in e], "I_zz w^2 / 2")
 
-# Pickling and deep copies (issue 28): the round trip is the body, to its closed form.
+# Pickling and deep copies: the round trip is the body, to its closed form.
 area = "body"
 import copy  # noqa: E402
 import pickle  # noqa: E402
@@ -2171,7 +2172,7 @@ val(area, "inertia_about a masked point with nothing masked",
 # --- principal() and point_masses_inertia(): options and array kinds -------------------------
 
 area = "principal"
-err(area, "masked entries (issue 28)", lambda: ph.principal(masked(np.diag([1.0, 2.0, 3.0]),
+err(area, "masked entries", lambda: ph.principal(masked(np.diag([1.0, 2.0, 3.0]),
                                                                    np.eye(3))),
     ph.ArgumentError, "inertia")
 err(area, "masked entries in a batch", lambda: ph.principal(masked(np.stack([SPD, SPD]),
@@ -2645,7 +2646,7 @@ def _frame_inertia(k):
 
 
 for _k in (0, 1, 2):
-    val(area, f"from_molecule conformer={_k} of a 3-frame XYZ (issue 28)",
+    val(area, f"from_molecule conformer={_k} of a 3-frame XYZ",
         from_file("frames.xyz", conformer=_k),
         lambda b, k=_k: close(b.inertia, _frame_inertia(k), 1e-10),
         "numpy on ASE's frame k (masses to 1e-12)")
@@ -2814,7 +2815,7 @@ for _label, _call, _error, _argument in (
     ("from_file neither", lambda: ph.Body.from_file(at("tet.off")), ph.ArgumentError,
      "density"),
     # A scale whose mesh is beyond double precision, where the file's own is not, is the
-    # scale's fault (issue 28: a FileFormatError naming the file).
+    # scale's fault (it was a FileFormatError naming the file).
     ("from_file scale 1e200, mass", lambda: ph.Body.from_file(at("tet.off"), mass=1.0,
                                                              scale=1e200), ph.ArgumentError,
      "scale"),

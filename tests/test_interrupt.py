@@ -263,9 +263,9 @@ def tetrahedra_soup(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 def test_ctrl_c_stops_the_vertex_merge_of_a_mesh_file():
     # What Body.from_file and polhode.io.read_mesh do with an STL's soup before the integrals:
-    # merge the copies of each vertex (a sort of every vertex). The issue's 200 MB STL took up
+    # merge the copies of each vertex (a sort of every vertex). A 200 MB STL once took up
     # to 13.5 s to notice Ctrl-C there; the merge is now quicker (about 0.1 us a face) and
-    # looks at the monitor between blocks, so it must stop within the issue's 0.2 s of CPU.
+    # looks at the monitor between blocks, so it must stop within 0.2 s of CPU.
     vertices, faces = tetrahedra_soup(50_000)
     started = time.process_time()
     _core.merge_vertices(vertices, faces)
@@ -838,8 +838,8 @@ print(json.dumps({"outcome": outcome, "ended": time.monotonic(), "calls": state[
                   "calls_at": state["calls_at"]}), flush=True)
 """
 
-#: The cases of the issue (each a run of 3-14 s to its end): 64 bodies with a torque Function
-#: and rk4, 2 with splitting, 64 with a Wheel(torque=callable) and dop853.
+#: The slow cases of the old behaviour (each a run of 3-14 s to its end): 64 bodies with a
+#: torque Function and rk4, 2 with splitting, 64 with a Wheel(torque=callable) and dop853.
 SIGINT_CASES = {
     "64 bodies, torque Function, rk4": (64, {"method": "rk4", "dt": 1e-3}, 20.0, "torque"),
     "2 bodies, torque Function, splitting": (

@@ -156,7 +156,7 @@ def test_a_file_with_nothing_left_out_warns_nothing(tmp_path):
 
 
 def test_two_inertials_are_an_error_naming_the_link_and_field(tmp_path):
-    """Issue 28: a link with two <inertial> elements silently took one."""
+    """A link with two <inertial> elements once silently took one."""
     path = write(tmp_path, f'<link name="arm">{inertial(1.0)}{inertial(2.0)}</link>')
     with pytest.raises(FileFormatError, match=r"2 <inertial> elements") as error:
         ph.io.read_urdf(path, strict=True)

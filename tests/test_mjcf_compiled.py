@@ -532,7 +532,7 @@ def test_free_bodies_aligned_by_mujoco_compare_in_the_world(tmp_path):
 
 
 def test_both_diaginertia_and_fullinertia_name_the_body(tmp_path):
-    # Issue 28: the file's fullinertia was taken without a word; MuJoCo refuses the model.
+    # The file's fullinertia was once taken without a word; MuJoCo refuses the model.
     path = tmp_path / "m.xml"
     path.write_text(model(hinge("arm", '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1" '
                                        'fullinertia="1 1 1 0 0 0"/>')))  # fmt: skip

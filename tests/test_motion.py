@@ -9,7 +9,7 @@ References (nothing here compares polhode with itself):
   T and |L| for the implicit midpoint rule);
 - convergence orders (error ratio when halving dt).
 
-Accuracy targets (the motion issue): "exact" within 1e-13 relative in omega and in the attitude
+Accuracy targets: "exact" within 1e-13 relative in omega and in the attitude
 (quaternion up to sign) up to 100 periods, and an error growth of about 1e-15 per period beyond
 (checked at 1e3..1e6 periods; "about" is taken as a factor 2: bound 1e-13 + 2e-15 N).
 """

@@ -1,4 +1,4 @@
-"""The hard cases of the motion issue, each against an independent reference.
+"""The hard cases of the motion, each against an independent reference.
 
 1. the flip near the separatrix, I = (3, 5, 9), L0 = (0, 2, eps) for eps = 1e-2, 1e-6, 1e-12;
 2. exactly on the separatrix (and within 1e-12 of it, with cancellation in G^2 - 2 T I2);

@@ -527,7 +527,7 @@ err("scene/path=5", lambda: SCENE(bar_traj(), bar(), frames=2, path=5), TypeErro
 
 
 # ---------------------------------------------------------------------------------------------
-# A second probe (issue 28's leftovers): every public function, every argument, with wrong
+# A second probe: every public function, every argument, with wrong
 # types, masked values, numbers beyond double precision and out of range.
 # ---------------------------------------------------------------------------------------------
 
@@ -562,7 +562,7 @@ def frames_drawn(indices):
     return check
 
 
-# The trajectory argument: a Body or None where a trajectory is expected (issue 28's list).
+# The trajectory argument: a Body or None where a trajectory is expected.
 for _name, _call in TRAJECTORY_PLOTS.items():
     err(f"{_name}/traj=None", lambda c=_call: c(None), TypeError, "traj")
     err(f"{_name}/traj=a Body", lambda c=_call: c(bar()), TypeError, "traj")

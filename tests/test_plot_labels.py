@@ -1,4 +1,4 @@
-"""What a person reads on polhode.plot's figures (issue 29, items 3 and 4).
+"""What a person reads on polhode.plot's figures (units, numbering, nothing clipped).
 
 - One numbering: the principal axes are 1, 2, 3 with I1 <= I2 <= I3 in every legend, label
   and title; axes that are not principal are x, y, z. Which body axis is which is computed

@@ -1,4 +1,4 @@
-"""Results that resolve the motion (issue 29 items 1, 5, 8): the output times of an end time,
+"""Results that resolve the motion: the output times of an end time,
 dense output, batches indexed like arrays, the state at t0, and trajectories equal by value."""
 
 from __future__ import annotations

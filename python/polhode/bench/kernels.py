@@ -114,7 +114,7 @@ FLOPS: dict[str, float | None] = {
     #            = 26, four stages                                          104
     #   the three stage states y + h k, 7 components                       3 x 7 x 2 = 42
     #   y + dt/6 (k1 + 2 (k2 + k3) + k4), 7 components: 5 add, 1 mul    7 x 6 = 42
-    # 188 per body-step (the issue's ~220).
+    # 188 per body-step (an earlier count said ~220).
     "rk4": 4 * (6 + 20) + 3 * 7 * 2 + 7 * 6,
     # The splitting's exact sub-rotations take sines and cosines, the implicit midpoint rule
     # iterates to convergence: no fixed count.
@@ -481,8 +481,8 @@ def batch(n: int = 100_000, repeats: int = 5, steps: int = 200) -> list[Row]:
     with orientation on all cores, by rk4, the splitting (order 4) and the midpoint rule,
     against the numpy structure-of-arrays rk4 (:func:`polhode.bench.adapters.numpy_rk4`, one
     core) on the same bodies and steps. The element is a body-step; 200 steps is the
-    workload of :func:`polhode.bench.motion.throughput` at 1e5 bodies, where the issue's
-    figures before this work were measured."""
+    workload of :func:`polhode.bench.motion.throughput` at 1e5 bodies, where the
+    figures before the lanes were measured."""
     from polhode.bench.motion import random_bodies
 
     dt = 0.01
@@ -611,7 +611,7 @@ def run(
     limits_size: int | None = None,
     only: Sequence[str] | None = None,
 ) -> Kernels:
-    """Every row, at the issue's sizes or (``quick``) at a tenth of them (meshes of 20,480
+    """Every row, at the target sizes or (``quick``) at a tenth of them (meshes of 20,480
     faces), each a median of ``repeats`` (at least 5) interleaved repeats; the limits measured
     first (the bandwidth on ``limits_size`` bytes: 256 MiB, 64 MiB when ``quick``). ``only``:
     the groups of :data:`GROUPS` to run (all when None)."""

@@ -91,7 +91,7 @@ fn nudged(s: f64, delta: f64) -> Mesh {
 
 #[test]
 fn the_tolerance_merges_exporter_noise_and_no_real_gap() {
-    // The examples: 1e-17 absolute on a 3 cm part merges, a 1e-3 gap does not.
+    // The two cases the tolerance is chosen for: 1e-17 absolute on a 3 cm part merges, a 1e-3 gap does not.
     let part = solid(&nudged(0.03, 1e-17)).unwrap();
     assert!((part.mass() - 0.03f64.powi(3)).abs() <= 1e-15 * part.mass());
     let e = solid(&nudged(0.03, 1e-3)).unwrap_err();
