@@ -34,6 +34,7 @@ __all__ = [
     "as_scalar",
     "as_scale",
     "density_or_mass",
+    "read_only_arrays",
     "unmasked",
 ]
 
@@ -368,3 +369,12 @@ def as_scale(value: Any, name: str = "scale") -> NDArray[np.float64]:
             f"Expected `{name}` to be non-zero, got {array.tolist()}.", argument=name
         )
     return array
+
+
+def read_only_arrays(state: dict[str, Any]) -> dict[str, Any]:
+    """An unpickled or deep-copied model's state with its arrays read-only again, as its
+    constructor made them (numpy's pickles load writeable): for ``__setstate__``."""
+    for value in state.values():
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    return state

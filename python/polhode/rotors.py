@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polhode import _core
-from polhode._coerce import as_array, as_float_array, as_scalar
+from polhode._coerce import as_array, as_float_array, as_scalar, read_only_arrays
 from polhode._inputs import principal_frame
 from polhode.errors import NonFiniteError, PolhodeError
 
@@ -51,11 +51,8 @@ class Rotor:
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         # Unpickled or deep-copied, a model is what its constructor made: its arrays read-only
-        # again (numpy's pickles load writeable) and its fields checked by the core.
-        for value in state.values():
-            if isinstance(value, np.ndarray):
-                value.flags.writeable = False
-        self.__dict__.update(state)
+        # again and its fields checked by the core.
+        self.__dict__.update(read_only_arrays(state))
         self.__post_init__()
 
 

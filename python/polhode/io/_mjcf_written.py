@@ -32,6 +32,7 @@ from polhode.io._links import (
     symmetric,
     unit_volume,
 )
+from polhode.io._mjcf_compile import body_names
 
 __all__ = ["mjcf_links", "mjcf_spec", "read_as_written"]
 
@@ -140,20 +141,14 @@ def mjcf_links(path: str) -> tuple[list[Link], bool]:
     low, high = (int(x) for x in spec.compiler.inertiagrouprange)
     infer = spec.compiler.inertiafromgeom != mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
     links = []
-    # An unnamed body is "body K" (K its MuJoCo id), unless a body is named so: then
-    # "body K (unnamed)" (the two shared a key, and one of them was lost without a word).
-    taken = {body.name for body in spec.bodies if body.name}
+    # An unnamed body is "body K" (K its MuJoCo id), or "body K (unnamed)" if a body is named
+    # so, as read_mjcf names it (the two shared a key, and one of them was lost without a word).
     bodies = list(spec.bodies)
-    names: list[str | None] = [None]  # the world's
+    names: list[str | None] = [None, *body_names(spec)[1:]]  # the world's is None
     for index, body in enumerate(bodies):
         if index == 0:
             continue  # the world
-        name = body.name
-        if not name:
-            name = f"body {index}"
-            while name in taken:
-                name += " (unnamed)"
-        names.append(name)
+        name = names[index]
         # How it hangs on its parent (for audit): moving with joints, else welded to it (the
         # world's children without joints too, with no parent link).
         up = next(i for i, b in enumerate(bodies[:index]) if b == body.parent)

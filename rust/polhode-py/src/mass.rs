@@ -43,6 +43,29 @@ fn watched<T: Send>(
 /// The vertices (N, 3) and faces (M, 3) of [`merge_vertices`].
 type MergedArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 
+/// A mesh's vertices and faces as rows of three.
+type MeshRows<'a> = (&'a [[f64; 3]], &'a [[i64; 3]]);
+
+/// A mesh's vertices (N, 3) and faces (M, 3) as rows, borrowed from the numpy buffers
+/// (C-contiguous from the Python layer); a shape error naming the argument otherwise.
+fn mesh_rows<'a>(
+    vertices: &'a PyReadonlyArray2<'_, f64>,
+    faces: &'a PyReadonlyArray2<'_, i64>,
+) -> PyResult<MeshRows<'a>> {
+    if vertices.shape()[1] != 3 {
+        return Err(bad_shape("vertices", "(N, 3)", vertices.shape()));
+    }
+    if faces.shape()[1] != 3 {
+        return Err(bad_shape("faces", "(M, 3)", faces.shape()));
+    }
+    match (vertices.as_slice(), faces.as_slice()) {
+        (Ok(v), Ok(f)) => Ok((v.as_chunks::<3>().0, f.as_chunks::<3>().0)),
+        _ => Err(pyo3::exceptions::PyValueError::new_err(
+            "Expected C-contiguous `vertices` and `faces`.",
+        )),
+    }
+}
+
 /// A file's vertices at the same position merged (the first kept, in order of appearance), the
 /// faces renumbered and those that then repeat a vertex dropped; a large mesh runs watched
 /// (Ctrl-C stops it).
@@ -52,20 +75,7 @@ pub fn merge_vertices<'py>(
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
 ) -> PyResult<MergedArrays<'py>> {
-    if vertices.shape()[1] != 3 {
-        return Err(bad_shape("vertices", "(N, 3)", vertices.shape()));
-    }
-    if faces.shape()[1] != 3 {
-        return Err(bad_shape("faces", "(M, 3)", faces.shape()));
-    }
-    let (vertices, faces) = match (vertices.as_slice(), faces.as_slice()) {
-        (Ok(v), Ok(f)) => (v.as_chunks::<3>().0, f.as_chunks::<3>().0),
-        _ => {
-            return Err(pyo3::exceptions::PyValueError::new_err(
-                "Expected C-contiguous `vertices` and `faces`.",
-            ))
-        }
-    };
+    let (vertices, faces) = mesh_rows(&vertices, &faces)?;
     let long = vertices.len() > 2 * polhode::mass::MESH_CHUNK;
     let (merged, renumbered) = watched(py, long, |monitor| {
         polhode::mass::merge_vertices(vertices, faces, monitor)
@@ -134,21 +144,7 @@ impl PyMassProperties {
         shell: bool,
         fix_winding: bool,
     ) -> PyResult<Self> {
-        if vertices.shape()[1] != 3 {
-            return Err(bad_shape("vertices", "(N, 3)", vertices.shape()));
-        }
-        if faces.shape()[1] != 3 {
-            return Err(bad_shape("faces", "(M, 3)", faces.shape()));
-        }
-        // Borrow the numpy buffers (C-contiguous from the Python layer) as rows.
-        let (vertices, faces) = match (vertices.as_slice(), faces.as_slice()) {
-            (Ok(v), Ok(f)) => (v.as_chunks::<3>().0, f.as_chunks::<3>().0),
-            _ => {
-                return Err(pyo3::exceptions::PyValueError::new_err(
-                    "Expected C-contiguous `vertices` and `faces`.",
-                ))
-            }
-        };
+        let (vertices, faces) = mesh_rows(&vertices, &faces)?;
         // A large mesh runs watched: Ctrl-C stops it at its next chunk of faces.
         let long = faces.len() > 2 * polhode::mass::MESH_CHUNK;
         let body = watched(py, long, |monitor| {
